@@ -1,0 +1,36 @@
+#include <fmt/core.h>
+
+#include <array>
+
+#include "commands.hpp"
+#include "frep/eval/tape.hpp"
+#include "frep/io/load.hpp"
+
+namespace frep::cli {
+
+void register_info(CLI::App& app) {
+  auto* cmd = app.add_subcommand("info", "Print node counts by opcode, variables used and tape length");
+  auto file = std::make_shared<std::string>();
+  cmd->add_option("FILE", *file, "Expression file (.vm)")->required();
+  cmd->callback([file] {
+    const Model m = load_expression(*file);
+    const std::vector<NodeId> nodes = reachable_nodes(*m.graph, m.root);
+    std::array<std::size_t, kOpCount> counts{};
+    for (NodeId id : nodes) ++counts[static_cast<int>(m.graph->node(id).op)];
+    const Tape tape = Tape::compile(*m.graph, m.root);
+    fmt::print("file: {}\n", *file);
+    fmt::print("nodes: {} (after hash-consing and folding)\n", nodes.size());
+    std::string vars;
+    if (tape.vars_used() & 1) vars += "x ";
+    if (tape.vars_used() & 2) vars += "y ";
+    if (tape.vars_used() & 4) vars += "z ";
+    fmt::print("variables: {}\n", vars.empty() ? "none" : vars.substr(0, vars.size() - 1));
+    fmt::print("tape: {} instructions, {} registers, {} choices (min/max/and/or)\n", tape.code().size(),
+               tape.num_registers(), tape.choice_count());
+    fmt::print("opcodes:\n");
+    for (int op = 0; op < kOpCount; ++op)
+      if (counts[op]) fmt::print("  {:<8} {}\n", op_name(static_cast<Op>(op)), counts[op]);
+  });
+}
+
+}  // namespace frep::cli

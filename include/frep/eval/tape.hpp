@@ -1,0 +1,75 @@
+// A compiled expression: a flat SSA list of instructions (root last), and the same program
+// after register allocation, which the point, batch and gradient evaluators run.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "frep/eval/interval.hpp"
+#include "frep/expr/graph.hpp"
+
+namespace frep {
+
+// SSA instruction: arguments are indices of earlier instructions.
+struct SsaInstr {
+  Op op;
+  std::uint32_t a = 0;
+  std::uint32_t b = 0;
+  float value = 0;  // Op::Const only
+};
+
+// Register instruction. A constant argument is an immediate (`imm`), flagged in `mode`.
+struct RegInstr {
+  Op op;
+  std::uint8_t mode = 0;  // kImmA / kImmB bits
+  std::uint32_t out = 0;
+  std::uint32_t a = 0;
+  std::uint32_t b = 0;
+  float imm = 0;
+
+  static constexpr std::uint8_t kImmA = 1;
+  static constexpr std::uint8_t kImmB = 2;
+};
+
+class Tape {
+ public:
+  Tape() = default;
+
+  // Compiles the part of `g` reachable from `root`. Iterative; linear in the node count.
+  static Tape compile(const Graph& g, NodeId root);
+  // Builds a tape from SSA instructions (root last); folds constants and allocates registers.
+  static Tape from_ssa(std::vector<SsaInstr> ssa);
+
+  const std::vector<SsaInstr>& ssa() const { return ssa_; }
+  const std::vector<RegInstr>& code() const { return code_; }
+  std::uint32_t num_registers() const { return num_regs_; }
+  std::uint32_t root_register() const { return root_reg_; }
+  std::size_t size() const { return ssa_.size(); }
+  // Number of min/max/and/or instructions: zero means simplifying cannot shrink it further.
+  std::uint32_t choice_count() const { return choices_; }
+  // Bit 0/1/2: x/y/z appear in the tape.
+  std::uint8_t vars_used() const { return vars_; }
+
+  // Rebuilds the tape keeping only what matters inside a region, given the per-instruction
+  // intervals and choices of an interval evaluation over that region: one-sided choices become
+  // their winning side, regions where an instruction is a single non-zero value become that
+  // constant, and dead code is dropped. Writes into `out` to reuse its storage.
+  void simplify(const std::vector<Interval>& values, const std::vector<Choice>& choices, Tape& out) const;
+  Tape simplified(const std::vector<Interval>& values, const std::vector<Choice>& choices) const;
+
+ private:
+  void finish();  // compacts, counts and allocates registers
+  std::uint32_t emit(const SsaInstr& ins);  // appends with constant folding
+
+  std::vector<SsaInstr> ssa_;
+  std::vector<RegInstr> code_;
+  std::uint32_t num_regs_ = 0;
+  std::uint32_t root_reg_ = 0;
+  std::uint32_t choices_ = 0;
+  std::uint8_t vars_ = 0;
+  // Scratch reused when this tape is the output of simplify(), so that re-simplifying in a
+  // loop does not allocate.
+  std::vector<std::uint32_t> scratch_a_, scratch_b_;
+};
+
+}  // namespace frep

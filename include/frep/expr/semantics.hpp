@@ -1,0 +1,74 @@
+// The reference semantics of every opcode, on scalars. Constant folding, the point evaluator and
+// the conformance tests all use this one definition (float for evaluation, double for tests).
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+#include "frep/expr/opcode.hpp"
+
+namespace frep {
+
+template <class T>
+inline T op_min(T a, T b) {
+  if (std::isnan(a) || std::isnan(b)) return std::numeric_limits<T>::quiet_NaN();
+  return a < b ? a : b;
+}
+template <class T>
+inline T op_max(T a, T b) {
+  if (std::isnan(a) || std::isnan(b)) return std::numeric_limits<T>::quiet_NaN();
+  return a > b ? a : b;
+}
+// Euclidean remainder: result in [0, |b|] (|b| itself only through rounding); NaN for b == 0.
+template <class T>
+inline T op_mod(T a, T b) {
+  T r = std::fmod(a, b);
+  return r < 0 ? r + std::fabs(b) : r;
+}
+template <class T>
+inline T op_compare(T a, T b) {
+  if (std::isnan(a) || std::isnan(b)) return std::numeric_limits<T>::quiet_NaN();
+  return a < b ? T(-1) : (a > b ? T(1) : T(0));
+}
+
+// Evaluates a unary or binary op (b is ignored for unary ops). Leaves are not handled here.
+template <class T>
+inline T op_eval(Op op, T a, T b) {
+  switch (op) {
+    case Op::Neg: return -a;
+    case Op::Abs: return std::fabs(a);
+    case Op::Recip: return T(1) / a;
+    case Op::Sqrt: return std::sqrt(a);
+    case Op::Square: return a * a;
+    case Op::Floor: return std::floor(a);
+    case Op::Ceil: return std::ceil(a);
+    case Op::Round: return std::round(a);  // halves away from zero
+    case Op::Sin: return std::sin(a);
+    case Op::Cos: return std::cos(a);
+    case Op::Tan: return std::tan(a);
+    case Op::Asin: return std::asin(a);
+    case Op::Acos: return std::acos(a);
+    case Op::Atan: return std::atan(a);
+    case Op::Exp: return std::exp(a);
+    case Op::Ln: return std::log(a);
+    case Op::Not: return a == 0 ? T(1) : T(0);  // NaN counts as non-zero
+    case Op::Add: return a + b;
+    case Op::Sub: return a - b;
+    case Op::Mul: return a * b;
+    case Op::Div: return a / b;
+    case Op::Atan2: return std::atan2(a, b);
+    case Op::Min: return op_min(a, b);
+    case Op::Max: return op_max(a, b);
+    case Op::Compare: return op_compare(a, b);
+    case Op::Mod: return op_mod(a, b);
+    case Op::And: return a == 0 ? a : b;
+    case Op::Or: return a != 0 ? a : b;
+    case Op::VarX:
+    case Op::VarY:
+    case Op::VarZ:
+    case Op::Const: break;
+  }
+  return std::numeric_limits<T>::quiet_NaN();
+}
+
+}  // namespace frep

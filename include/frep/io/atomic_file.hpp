@@ -1,0 +1,20 @@
+// Writes output files atomically: a temporary file beside the target, then rename, so a failure
+// never leaves a half-written file under the requested name.
+#pragma once
+
+#include <functional>
+#include <ostream>
+#include <string>
+#include <string_view>
+
+namespace frep {
+
+// Calls `produce` with a stream to the temporary file, flushes, fsyncs and renames it to `path`.
+// Throws InputError naming `path` if it cannot be written; the temporary file is removed.
+void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& produce);
+void write_file_atomically(const std::string& path, std::string_view bytes);
+
+// Reads a whole file; throws InputError naming it if it cannot be read.
+std::string read_file(const std::string& path);
+
+}  // namespace frep

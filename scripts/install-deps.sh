@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Installs what frep needs to build on Debian 12 (run as root). Safe to run again.
+set -euo pipefail
+pkgs=(build-essential cmake ninja-build pkg-config
+      libhwy-dev libcli11-dev libfmt-dev libstb-dev
+      libgtest-dev libgmock-dev libbenchmark-dev)
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "frep: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update
+  apt-get install -y --no-install-recommends "${missing[@]}"
+fi

@@ -1,0 +1,28 @@
+#include "frep/error.hpp"
+#include "frep/eval/evaluators.hpp"
+#include "frep/expr/semantics.hpp"
+
+namespace frep {
+
+float PointEvaluator::eval(const Tape& tape, float x, float y, float z) {
+  const auto& code = tape.code();
+  FREP_ASSERT(!code.empty(), "empty tape");
+  if (regs_.size() < tape.num_registers()) regs_.resize(tape.num_registers());
+  float* r = regs_.data();
+  for (const RegInstr& ins : code) {
+    switch (ins.op) {
+      case Op::VarX: r[ins.out] = x; break;
+      case Op::VarY: r[ins.out] = y; break;
+      case Op::VarZ: r[ins.out] = z; break;
+      case Op::Const: r[ins.out] = ins.imm; break;
+      default: {
+        const float a = (ins.mode & RegInstr::kImmA) ? ins.imm : r[ins.a];
+        const float b = (ins.mode & RegInstr::kImmB) ? ins.imm : r[ins.b];
+        r[ins.out] = op_eval<float>(ins.op, a, b);
+      }
+    }
+  }
+  return r[tape.root_register()];
+}
+
+}  // namespace frep

@@ -1,0 +1,180 @@
+#include "frep/expr/graph.hpp"
+
+#include <bit>
+#include <cstring>
+
+#include "frep/error.hpp"
+#include "frep/expr/expr.hpp"
+#include "frep/expr/semantics.hpp"
+
+namespace frep {
+namespace {
+
+std::uint64_t hash_node(const Node& n) {
+  std::uint64_t h = static_cast<std::uint64_t>(n.op) * 0x9E3779B97F4A7C15ull;
+  h ^= (static_cast<std::uint64_t>(n.a) << 32 | n.b) * 0xC2B2AE3D27D4EB4Full;
+  h ^= static_cast<std::uint64_t>(std::bit_cast<std::uint32_t>(n.value)) * 0x165667B19E3779F9ull;
+  h ^= h >> 29;
+  h *= 0xBF58476D1CE4E5B9ull;
+  h ^= h >> 32;
+  return h;
+}
+
+bool same_node(const Node& x, const Node& y) {
+  return x.op == y.op && x.a == y.a && x.b == y.b &&
+         std::bit_cast<std::uint32_t>(x.value) == std::bit_cast<std::uint32_t>(y.value);
+}
+
+bool is_bits(float v, float want) {
+  return std::bit_cast<std::uint32_t>(v) == std::bit_cast<std::uint32_t>(want);
+}
+
+}  // namespace
+
+Graph::Graph() : index_(64, kNoNode) {}
+
+std::size_t Graph::memory_bytes() const {
+  return nodes_.capacity() * sizeof(Node) + index_.capacity() * sizeof(NodeId);
+}
+
+void Graph::grow_index() {
+  std::vector<NodeId> bigger(index_.size() * 2, kNoNode);
+  const std::size_t mask = bigger.size() - 1;
+  for (NodeId id = 0; id < nodes_.size(); ++id) {
+    std::size_t slot = hash_node(nodes_[id]) & mask;
+    while (bigger[slot] != kNoNode) slot = (slot + 1) & mask;
+    bigger[slot] = id;
+  }
+  index_.swap(bigger);
+}
+
+NodeId Graph::intern(const Node& n) {
+  if ((nodes_.size() + 1) * 2 > index_.size()) grow_index();
+  const std::size_t mask = index_.size() - 1;
+  std::size_t slot = hash_node(n) & mask;
+  while (index_[slot] != kNoNode) {
+    if (same_node(nodes_[index_[slot]], n)) return index_[slot];
+    slot = (slot + 1) & mask;
+  }
+  if (nodes_.size() >= kNoNode - 1) throw std::length_error("frep::Graph: too many nodes");
+  const NodeId id = static_cast<NodeId>(nodes_.size());
+  nodes_.push_back(n);
+  index_[slot] = id;
+  return id;
+}
+
+NodeId Graph::constant(float v) { return intern({Op::Const, kNoNode, kNoNode, v}); }
+
+NodeId Graph::unary(Op op, NodeId a) {
+  FREP_ASSERT(op_arity(op) == 1, std::string(op_name(op)) + " is not unary");
+  FREP_ASSERT(a < nodes_.size(), "argument id out of range");
+  const Node& na = nodes_[a];
+  if (na.op == Op::Const) return constant(op_eval<float>(op, na.value, 0.0f));
+  switch (op) {
+    case Op::Neg:
+      if (na.op == Op::Neg) return na.a;  // -(-x) = x
+      break;
+    case Op::Abs:
+      if (na.op == Op::Abs) return a;                            // ||x|| = |x|
+      if (na.op == Op::Neg) return unary(Op::Abs, na.a);         // |-x| = |x|
+      break;
+    case Op::Square:
+      if (na.op == Op::Neg || na.op == Op::Abs) return unary(Op::Square, na.a);  // (-x)^2 = x^2
+      break;
+    default:
+      break;
+  }
+  return intern({op, a, kNoNode, 0.0f});
+}
+
+NodeId Graph::binary(Op op, NodeId a, NodeId b) {
+  FREP_ASSERT(op_arity(op) == 2, std::string(op_name(op)) + " is not binary");
+  FREP_ASSERT(a < nodes_.size() && b < nodes_.size(), "argument id out of range");
+  const Node na = nodes_[a];
+  const Node nb = nodes_[b];
+  const bool ca = na.op == Op::Const, cb = nb.op == Op::Const;
+  if (ca && cb) return constant(op_eval<float>(op, na.value, nb.value));
+  // Every identity below is exact in f32, bit for bit, NaN and signed zero included.
+  switch (op) {
+    case Op::Add:
+      if (cb && is_bits(nb.value, -0.0f)) return a;
+      if (ca && is_bits(na.value, -0.0f)) return b;
+      if (nb.op == Op::Neg) return binary(Op::Sub, a, nb.a);  // a + (-b) = a - b
+      break;
+    case Op::Sub:
+      if (cb && is_bits(nb.value, 0.0f)) return a;
+      if (ca && is_bits(na.value, -0.0f)) return unary(Op::Neg, b);
+      if (nb.op == Op::Neg) return binary(Op::Add, a, nb.a);  // a - (-b) = a + b
+      break;
+    case Op::Mul:
+      if (cb && nb.value == 1.0f) return a;
+      if (ca && na.value == 1.0f) return b;
+      if (cb && nb.value == -1.0f) return unary(Op::Neg, a);
+      if (ca && na.value == -1.0f) return unary(Op::Neg, b);
+      if (a == b) return unary(Op::Square, a);
+      break;
+    case Op::Div:
+      if (cb && nb.value == 1.0f) return a;
+      if (ca && na.value == 1.0f) return unary(Op::Recip, b);
+      break;
+    case Op::Min:
+    case Op::Max:
+      if (a == b) return a;
+      break;
+    case Op::And:  // a == 0 ? a : b
+      if (ca) return na.value == 0.0f ? a : b;
+      break;
+    case Op::Or:  // a != 0 ? a : b
+      if (ca) return na.value != 0.0f ? a : b;
+      break;
+    default:
+      break;
+  }
+  // Canonical order for commutative ops, so a+b and b+a are one node. For min and max this
+  // may change which of two equal-valued zeros (+0 / -0) wins a tie; values are unaffected.
+  if (op_is_commutative(op) && a > b) std::swap(a, b);
+  return intern({op, a, b, 0.0f});
+}
+
+NodeId Graph::make(Op op, NodeId a, NodeId b, float value) {
+  switch (op_arity(op)) {
+    case 0:
+      if (op == Op::Const) return constant(value);
+      return intern({op, kNoNode, kNoNode, 0.0f});
+    case 1:
+      return unary(op, a);
+    default:
+      return binary(op, a, b);
+  }
+}
+
+Expr Graph::x() { return Expr(*this, var_x()); }
+Expr Graph::y() { return Expr(*this, var_y()); }
+Expr Graph::z() { return Expr(*this, var_z()); }
+Expr Graph::c(float v) { return Expr(*this, constant(v)); }
+Expr Graph::expr(NodeId id) {
+  FREP_ASSERT(id < nodes_.size(), "node id out of range");
+  return Expr(*this, id);
+}
+
+std::vector<NodeId> reachable_nodes(const Graph& g, NodeId root) {
+  FREP_ASSERT(root < g.size(), "root id out of range");
+  // Arguments always have smaller ids than their users, so one backward sweep marks everything.
+  std::vector<std::uint8_t> live(root + 1, 0);
+  live[root] = 1;
+  std::size_t count = 0;
+  for (NodeId id = root + 1; id-- > 0;) {
+    if (!live[id]) continue;
+    ++count;
+    const Node& n = g.node(id);
+    if (n.a != kNoNode) live[n.a] = 1;
+    if (n.b != kNoNode) live[n.b] = 1;
+  }
+  std::vector<NodeId> out;
+  out.reserve(count);
+  for (NodeId id = 0; id <= root; ++id)
+    if (live[id]) out.push_back(id);
+  return out;
+}
+
+}  // namespace frep

@@ -1,0 +1,61 @@
+#include "frep/io/atomic_file.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "frep/error.hpp"
+
+namespace frep {
+
+void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& produce) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw InputError(path, 0, "cannot write: it is a directory");
+  std::random_device rd;
+  const std::string tmp = path + ".tmp" + std::to_string(::getpid()) + "." + std::to_string(rd() % 1000000);
+  try {
+    {
+      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+      if (!out) throw InputError(path, 0, std::string("cannot open for writing: ") + std::strerror(errno));
+      produce(out);
+      out.flush();
+      if (!out) throw InputError(path, 0, "write failed (disk full?)");
+    }
+    int fd = ::open(tmp.c_str(), O_RDONLY);
+    if (fd >= 0) {
+      ::fsync(fd);
+      ::close(fd);
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0)
+      throw InputError(path, 0, std::string("cannot rename temporary file: ") + std::strerror(errno));
+  } catch (...) {
+    std::remove(tmp.c_str());
+    throw;
+  }
+}
+
+void write_file_atomically(const std::string& path, std::string_view bytes) {
+  write_file_atomically(path, [&](std::ostream& out) { out.write(bytes.data(), static_cast<std::streamsize>(bytes.size())); });
+}
+
+std::string read_file(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw InputError(path, 0, "is a directory, not a file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw InputError(path, 0, "read error");
+  return std::move(ss).str();
+}
+
+}  // namespace frep

@@ -1,0 +1,176 @@
+#include "frep/io/vm.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "frep/error.hpp"
+#include "frep/io/atomic_file.hpp"
+
+namespace frep {
+namespace {
+
+struct Line {
+  std::string_view id;
+  Op op;
+  std::uint32_t args[2] = {0, 0};  // indices into the line table, resolved in pass two
+  std::string_view arg_names[2];
+  float value = 0;
+  std::uint64_t line_no = 0;
+};
+
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+std::string quoted(std::string_view s) {
+  std::string out = "'";
+  for (char c : s.substr(0, 60)) out += (static_cast<unsigned char>(c) < 32 || c == 127) ? '?' : c;
+  if (s.size() > 60) out += "...";
+  return out + "'";
+}
+
+float parse_number(std::string_view tok, const std::string& name, std::uint64_t line_no) {
+  std::string s(tok);
+  char* end = nullptr;
+  errno = 0;
+  const float v = std::strtof(s.c_str(), &end);
+  if (end == s.c_str() || *end != '\0')
+    throw InputError(name, line_no, "bad number " + quoted(tok));
+  return v;  // overflow gives +-inf, as Fidget's reader does
+}
+
+}  // namespace
+
+Model parse_vm(std::string_view text, const std::string& name) {
+  std::vector<Line> lines;
+  std::unordered_map<std::string_view, std::uint32_t> ids;
+  std::uint64_t line_no = 0;
+  std::size_t pos = 0;
+  while (pos <= text.size()) {
+    std::size_t eol = text.find('\n', pos);
+    if (eol == std::string_view::npos) eol = text.size();
+    std::string_view raw = text.substr(pos, eol - pos);
+    pos = eol + 1;
+    ++line_no;
+    if (std::size_t hash = raw.find('#'); hash != std::string_view::npos) raw = raw.substr(0, hash);
+    std::string_view tok[5];
+    int n = 0;
+    std::size_t i = 0;
+    while (i < raw.size()) {
+      while (i < raw.size() && is_space(raw[i])) ++i;
+      if (i >= raw.size()) break;
+      std::size_t j = i;
+      while (j < raw.size() && !is_space(raw[j])) ++j;
+      if (n == 5) throw InputError(name, line_no, "too many tokens");
+      tok[n++] = raw.substr(i, j - i);
+      i = j;
+    }
+    if (n == 0) continue;
+    if (n == 1) throw InputError(name, line_no, "expected `<id> <opcode> [args]`, got only " + quoted(tok[0]));
+    auto op = op_from_name(tok[1]);
+    if (!op) throw InputError(name, line_no, "unknown opcode " + quoted(tok[1]));
+    Line l;
+    l.id = tok[0];
+    l.op = *op;
+    l.line_no = line_no;
+    const int want = (*op == Op::Const) ? 1 : op_arity(*op);
+    if (n - 2 != want)
+      throw InputError(name, line_no,
+                       std::string(op_name(*op)) + " takes " + std::to_string(want) + " argument" +
+                           (want == 1 ? "" : "s") + ", got " + std::to_string(n - 2));
+    if (*op == Op::Const) {
+      l.value = parse_number(tok[2], name, line_no);
+    } else {
+      for (int k = 0; k < want; ++k) l.arg_names[k] = tok[2 + k];
+    }
+    if (!ids.emplace(l.id, static_cast<std::uint32_t>(lines.size())).second)
+      throw InputError(name, line_no, "id " + quoted(l.id) + " is defined twice (first on line " +
+                                          std::to_string(lines[ids[l.id]].line_no) + ")");
+    lines.push_back(l);
+  }
+  if (lines.empty()) throw InputError(name, 0, "no expression: the file has no instruction lines");
+
+  // Pass two: resolve argument names.
+  for (Line& l : lines) {
+    for (int k = 0; k < op_arity(l.op); ++k) {
+      auto it = ids.find(l.arg_names[k]);
+      if (it == ids.end()) throw InputError(name, l.line_no, "undefined id " + quoted(l.arg_names[k]));
+      l.args[k] = it->second;
+    }
+  }
+
+  // Pass three: build nodes in dependency order with an explicit stack (no recursion, so a
+  // million-deep chain is fine), detecting cycles.
+  Model model;
+  Graph& g = *model.graph;
+  constexpr NodeId kUnvisited = kNoNode, kInProgress = kNoNode - 1;
+  std::vector<NodeId> built(lines.size(), kUnvisited);
+  std::vector<std::uint32_t> stack;
+  for (std::uint32_t start = 0; start < lines.size(); ++start) {
+    if (built[start] != kUnvisited) continue;
+    stack.push_back(start);
+    built[start] = kInProgress;
+    while (!stack.empty()) {
+      const std::uint32_t cur = stack.back();
+      const Line& l = lines[cur];
+      bool ready = true;
+      for (int k = op_arity(l.op) - 1; k >= 0; --k) {
+        const std::uint32_t arg = l.args[k];
+        if (built[arg] == kInProgress)
+          throw InputError(name, l.line_no, "cycle: " + quoted(l.id) + " depends on itself through " + quoted(lines[arg].id));
+        if (built[arg] == kUnvisited) {
+          built[arg] = kInProgress;
+          stack.push_back(arg);
+          ready = false;
+        }
+      }
+      if (!ready) continue;
+      stack.pop_back();
+      const int ar = op_arity(l.op);
+      built[cur] = g.make(l.op, ar > 0 ? built[l.args[0]] : kNoNode, ar > 1 ? built[l.args[1]] : kNoNode, l.value);
+    }
+  }
+  model.root = built.back();
+  return model;
+}
+
+Model read_vm(const std::string& path) { return parse_vm(read_file(path), path); }
+
+void write_vm(std::ostream& out, const Graph& g, NodeId root) {
+  const std::vector<NodeId> order = reachable_nodes(g, root);
+  std::vector<std::uint32_t> index(root + 1, 0);
+  for (std::uint32_t i = 0; i < order.size(); ++i) index[order[i]] = i;
+  bool has_recip = false;
+  for (NodeId id : order) has_recip |= g.node(id).op == Op::Recip;
+  if (has_recip) out << "_one const 1\n";  // not a hex id, so it cannot collide
+  char buf[64];
+  for (std::uint32_t i = 0; i < order.size(); ++i) {
+    const Node& n = g.node(order[i]);
+    out << '_' << std::hex << i << std::dec << ' ';
+    switch (op_arity(n.op)) {
+      case 0:
+        out << op_name(n.op);
+        if (n.op == Op::Const) {
+          std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(n.value));
+          out << ' ' << buf;
+        }
+        break;
+      case 1:
+        if (n.op == Op::Recip) out << "div _one _" << std::hex << index[n.a] << std::dec;
+        else out << op_name(n.op) << " _" << std::hex << index[n.a] << std::dec;
+        break;
+      default:
+        out << op_name(n.op) << " _" << std::hex << index[n.a] << " _" << index[n.b] << std::dec;
+    }
+    out << '\n';
+  }
+}
+
+void save_vm(const std::string& path, const Graph& g, NodeId root) {
+  write_file_atomically(path, [&](std::ostream& out) { write_vm(out, g, root); });
+}
+
+}  // namespace frep
