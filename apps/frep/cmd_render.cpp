@@ -27,6 +27,10 @@ void register_render(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(0, 1024));
   cmd->add_option("--z", a->opt.z, "Slice height for 3D expressions")->capture_default_str();
+  cmd->add_option("--tiles", a->opt.tiles,
+                  "Tile edge per subdivision level, largest first (advanced; default 256,64,16)")
+      ->delimiter(',')
+      ->capture_default_str();
   cmd->add_flag("--quiet,-q", a->quiet, "Do not print where the image went");
   cmd->callback([a] {
     const Model m = load_expression(a->file);

@@ -145,7 +145,7 @@ const char* BatchEvaluator::target_name() { return HWY_DYNAMIC_DISPATCH(TargetNa
 void BatchEvaluator::eval(const Tape& tape, const float* xs, const float* ys, const float* zs, float* out,
                           std::size_t n) {
   const auto& code = tape.code();
-  FREP_ASSERT(!code.empty(), "empty tape");
+  FREP_ASSERT(!code.empty(), "tape has no register code (simplified without registers)");
   // Size the scratch for this tape; a small batch uses a short stride to stay in cache.
   constexpr std::size_t kLanesMax = 16;
   const std::size_t stride = std::min<std::size_t>(kChunk, (n + kLanesMax - 1) / kLanesMax * kLanesMax);

@@ -66,7 +66,7 @@ inline void partials(Op op, float a, float b, float v, float& pa, float& pb) {
 void GradEvaluator::eval(const Tape& tape, const float* xs, const float* ys, const float* zs, Grad* out,
                          std::size_t n) {
   const auto& code = tape.code();
-  FREP_ASSERT(!code.empty(), "empty tape");
+  FREP_ASSERT(!code.empty(), "tape has no register code (simplified without registers)");
   const std::size_t stride = 4 * kChunk;
   if (regs_.size() < tape.num_registers() * stride) regs_.resize(tape.num_registers() * stride);
   float* R = regs_.data();

@@ -16,13 +16,81 @@ Interval IntervalEvaluator::eval(const Tape& tape, Interval x, Interval y, Inter
   }
   Interval* v = values_.data();
   Choice* c = choices_.data();
+  const SsaInstr* code = ssa.data();
+  // The common ops are inlined here; the rest go through ival::op.
   for (std::size_t i = 0; i < n; ++i) {
-    const SsaInstr& ins = ssa[i];
+    const SsaInstr& ins = code[i];
     switch (ins.op) {
-      case Op::VarX: v[i] = x; c[i] = Choice::Both; break;
-      case Op::VarY: v[i] = y; c[i] = Choice::Both; break;
-      case Op::VarZ: v[i] = z; c[i] = Choice::Both; break;
-      case Op::Const: v[i] = Interval::point(ins.value); c[i] = Choice::Both; break;
+      case Op::VarX: v[i] = x; break;
+      case Op::VarY: v[i] = y; break;
+      case Op::VarZ: v[i] = z; break;
+      case Op::Const: v[i] = Interval::point(ins.value); break;
+      case Op::Add: {
+        const Interval a = v[ins.a], b = v[ins.b];
+        v[i] = ival::checked(a.lo + b.lo, a.hi + b.hi);
+        break;
+      }
+      case Op::Sub: {
+        const Interval a = v[ins.a], b = v[ins.b];
+        v[i] = ival::checked(a.lo - b.hi, a.hi - b.lo);
+        break;
+      }
+      case Op::Neg: {
+        const Interval a = v[ins.a];
+        v[i] = {-a.hi, -a.lo};
+        break;
+      }
+      case Op::Min: {
+        const Interval a = v[ins.a], b = v[ins.b];
+        if (a.is_unknown() || b.is_unknown()) {
+          v[i] = Interval::unknown();
+          c[i] = Choice::Both;
+        } else if (a.hi < b.lo) {
+          v[i] = a;
+          c[i] = Choice::Left;
+        } else if (b.hi < a.lo) {
+          v[i] = b;
+          c[i] = Choice::Right;
+        } else {
+          v[i] = {a.lo < b.lo ? a.lo : b.lo, a.hi < b.hi ? a.hi : b.hi};
+          c[i] = Choice::Both;
+        }
+        break;
+      }
+      case Op::Max: {
+        const Interval a = v[ins.a], b = v[ins.b];
+        if (a.is_unknown() || b.is_unknown()) {
+          v[i] = Interval::unknown();
+          c[i] = Choice::Both;
+        } else if (a.lo > b.hi) {
+          v[i] = a;
+          c[i] = Choice::Left;
+        } else if (b.lo > a.hi) {
+          v[i] = b;
+          c[i] = Choice::Right;
+        } else {
+          v[i] = {a.lo > b.lo ? a.lo : b.lo, a.hi > b.hi ? a.hi : b.hi};
+          c[i] = Choice::Both;
+        }
+        break;
+      }
+      case Op::Mul: {
+        v[i] = ival::op(Op::Mul, v[ins.a], v[ins.b], &c[i]);
+        break;
+      }
+      case Op::Square: {
+        const Interval a = v[ins.a];
+        if (a.lo >= 0) v[i] = {a.lo * a.lo, a.hi * a.hi};
+        else if (a.hi <= 0) v[i] = {a.hi * a.hi, a.lo * a.lo};
+        else if (a.is_unknown()) v[i] = a;
+        else v[i] = {0.0f, std::max(a.lo * a.lo, a.hi * a.hi)};
+        break;
+      }
+      case Op::Sqrt: {
+        const Interval a = v[ins.a];
+        v[i] = a.lo >= 0 ? Interval{std::sqrt(a.lo), std::sqrt(a.hi)} : Interval::unknown();
+        break;
+      }
       default:
         v[i] = ival::op(ins.op, v[ins.a], op_arity(ins.op) == 2 ? v[ins.b] : Interval{}, &c[i]);
     }

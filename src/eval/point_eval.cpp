@@ -6,7 +6,7 @@ namespace frep {
 
 float PointEvaluator::eval(const Tape& tape, float x, float y, float z) {
   const auto& code = tape.code();
-  FREP_ASSERT(!code.empty(), "empty tape");
+  FREP_ASSERT(!code.empty(), "tape has no register code (simplified without registers)");
   if (regs_.size() < tape.num_registers()) regs_.resize(tape.num_registers());
   float* r = regs_.data();
   for (const RegInstr& ins : code) {

@@ -1,12 +1,14 @@
 #include "frep/render/render2d.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cstring>
 #include <thread>
 
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
+#include "frep/eval/interval_batch.hpp"
 
 namespace frep {
 namespace {
@@ -32,9 +34,9 @@ void check_options(const RenderOptions& o) {
 }  // namespace
 
 struct Renderer2D::Worker {
-  IntervalEvaluator interval;
+  IntervalBatchEvaluator boxes;
   BatchEvaluator batch;
-  std::vector<Tape> tapes;  // one per level
+  std::vector<std::array<Tape, IntervalBatchEvaluator::kLanes>> tapes;  // per level, per child
   std::vector<float> xs, ys, zs, out;
 };
 
@@ -47,85 +49,151 @@ Renderer2D::Renderer2D(RenderOptions options) : options_(std::move(options)) {
 
 Renderer2D::~Renderer2D() = default;
 
+namespace {
+struct Rect {
+  int x0, x1, y0, y1;  // pixels [x0, x1) x [y0, y1), rows from the top
+};
+struct Item {
+  Rect rect;
+  const Tape* tape;  // valid inside rect
+};
+}  // namespace
+
 Image Renderer2D::render(const Tape& tape) {
+  FREP_ASSERT(!tape.code().empty(), "render needs a tape with register code");
   const int n = options_.size;
   const std::vector<float> lin = linspace(n);
   Image img;
   img.width = img.height = n;
   img.pixels.assign(static_cast<std::size_t>(n) * n, 0);
   const std::vector<int>& tiles = options_.tiles;
+  const int levels = static_cast<int>(tiles.size());
   const float z = options_.z;
-  const Interval zi = Interval::point(z);
+  constexpr int kLanes = IntervalBatchEvaluator::kLanes;
 
-  // Pixel rectangle [x0, x1) x [y0, y1) (rows from the top), evaluated with `t`, at `level`.
-  auto fill = [&](int x0, int x1, int y0, int y1, std::uint8_t v) {
-    for (int r = y0; r < y1; ++r) std::memset(&img.pixels[static_cast<std::size_t>(r) * n + x0], v, x1 - x0);
+  auto fill = [&](const Rect& r, std::uint8_t v) {
+    for (int row = r.y0; row < r.y1; ++row)
+      std::memset(&img.pixels[static_cast<std::size_t>(row) * n + r.x0], v, static_cast<std::size_t>(r.x1 - r.x0));
   };
-  auto leaf = [&](Worker& w, const Tape& t, int x0, int x1, int y0, int y1) {
-    const std::size_t count = static_cast<std::size_t>(x1 - x0) * (y1 - y0);
-    w.xs.resize(count);
-    w.ys.resize(count);
-    w.zs.assign(count, z);
-    w.out.resize(count);
-    std::size_t k = 0;
-    for (int r = y0; r < y1; ++r)
-      for (int c = x0; c < x1; ++c, ++k) {
-        w.xs[k] = lin[c];
-        w.ys[k] = lin[n - 1 - r];
-      }
+  // Evaluates every pixel of an undecided tile of the last level.
+  auto leaf = [&](Worker& w, const Tape& t, const Rect& rc) {
+    const std::size_t width = static_cast<std::size_t>(rc.x1 - rc.x0);
+    const std::size_t count = width * static_cast<std::size_t>(rc.y1 - rc.y0);
+    if (w.xs.size() < count) {
+      w.xs.resize(count);
+      w.ys.resize(count);
+      w.out.resize(count);
+    }
+    if (w.zs.size() < count || w.zs[0] != z) w.zs.assign(std::max(count, w.zs.size()), z);
+    float* xs = w.xs.data();
+    float* ys = w.ys.data();
+    for (int row = rc.y0; row < rc.y1; ++row, xs += width, ys += width) {
+      std::memcpy(xs, &lin[rc.x0], width * sizeof(float));
+      std::fill(ys, ys + width, lin[n - 1 - row]);
+    }
     w.batch.eval(t, w.xs.data(), w.ys.data(), w.zs.data(), w.out.data(), count);
-    k = 0;
-    for (int r = y0; r < y1; ++r)
-      for (int c = x0; c < x1; ++c, ++k) img.pixels[static_cast<std::size_t>(r) * n + c] = w.out[k] < 0 ? 255 : 0;
+    const float* v = w.out.data();
+    for (int row = rc.y0; row < rc.y1; ++row, v += width) {
+      std::uint8_t* dst = &img.pixels[static_cast<std::size_t>(row) * n + rc.x0];
+      for (std::size_t c = 0; c < width; ++c) dst[c] = v[c] < 0 ? 255 : 0;
+    }
   };
-  // Recursive over levels (depth = number of levels, a handful), not over the expression.
-  auto tile = [&](auto&& self, Worker& w, const Tape& t, std::size_t level, int x0, int x1, int y0,
-                  int y1) -> void {
-    const Interval xi{lin[x0], lin[x1 - 1]};
-    const Interval yi{lin[n - 1 - (y1 - 1)], lin[n - 1 - y0]};
-    const Interval r = w.interval.eval(t, xi, yi, zi);
-    if (!r.is_unknown()) {
-      if (r.hi < 0) return fill(x0, x1, y0, y1, 255);
-      if (r.lo >= 0) return fill(x0, x1, y0, y1, 0);
-    }
-    const Tape* next = &t;
-    if (t.choice_count() > 0) {
-      t.simplify(w.interval.values(), w.interval.choices(), w.tapes[level]);
-      next = &w.tapes[level];
-    }
-    if (level + 1 >= tiles.size()) return leaf(w, *next, x0, x1, y0, y1);
-    const int step = tiles[level + 1];
-    for (int ty = y0; ty < y1; ty += step)
-      for (int tx = x0; tx < x1; tx += step)
-        self(self, w, *next, level + 1, tx, std::min(tx + step, x1), ty, std::min(ty + step, y1));
+  // Splits `parent` (valid tape `t`) into tiles of level `level`, 16 at a time: one SIMD
+  // interval pass classifies them, one shared pass simplifies `t` for the undecided ones (into
+  // outs(group)), and `next(child)` receives each undecided child.
+  auto split = [&](Worker& w, const Tape& t, int level, const Rect& parent, auto&& outs, auto&& next) {
+    const int step = tiles[level];
+    const bool last = level + 1 == levels;
+    Rect rects[kLanes];
+    Interval xi[kLanes], yi[kLanes], zi[kLanes];
+    int count = 0, group = 0;
+    auto flush = [&] {
+      w.boxes.eval(t, xi, yi, zi, count);
+      std::uint32_t open = 0;
+      for (int k = 0; k < count; ++k) {
+        const Interval r = w.boxes.result(k);
+        if (!r.is_unknown() && r.hi < 0) fill(rects[k], 255);
+        else if (!r.is_unknown() && r.lo >= 0) fill(rects[k], 0);
+        else open |= 1u << k;
+      }
+      if (open) {
+        // Nothing to prune without choices, unless the children need register code.
+        const bool reuse = t.choice_count() == 0 && (!last || !t.code().empty());
+        Tape* dst = outs(group);
+        if (!reuse) w.boxes.simplify(t, open, dst, last);
+        for (std::uint32_t bits = open; bits; bits &= bits - 1) {
+          const int k = __builtin_ctz(bits);
+          next(Item{rects[k], reuse ? &t : &dst[k]});
+        }
+      }
+      count = 0;
+      ++group;
+    };
+    for (int ty = parent.y0; ty < parent.y1; ty += step)
+      for (int tx = parent.x0; tx < parent.x1; tx += step) {
+        const Rect rc{tx, std::min(tx + step, parent.x1), ty, std::min(ty + step, parent.y1)};
+        rects[count] = rc;
+        xi[count] = {lin[rc.x0], lin[rc.x1 - 1]};
+        yi[count] = {lin[n - 1 - (rc.y1 - 1)], lin[n - 1 - rc.y0]};
+        zi[count] = Interval::point(z);
+        if (++count == kLanes) flush();
+      }
+    if (count) flush();
+  };
+  // Depth first below the parallel frontier; recursion depth is the number of levels.
+  auto descend = [&](auto&& self, Worker& w, const Item& item, int level) -> void {
+    if (level + 1 == levels) return leaf(w, *item.tape, item.rect);
+    split(w, *item.tape, level + 1, item.rect, [&](int) { return w.tapes[level + 1].data(); },
+          [&](const Item& child) { self(self, w, child, level + 1); });
   };
 
-  // Work items are the tiles of the first level, handed out dynamically; each pixel is written
-  // by exactly one item, so the image does not depend on the thread count.
-  const int step = tiles[0];
-  const int per_row = (n + step - 1) / step;
-  const int items = per_row * per_row;
+  // Breadth first for the first two levels, so that the parallel work items below are many and
+  // small enough to balance. Simplified tapes of the frontier are kept per level. Every pixel is
+  // written by exactly one item, so the image does not depend on the thread count.
+  for (auto& w : workers_)
+    if (static_cast<int>(w->tapes.size()) < levels) w->tapes.resize(levels);
+  if (frontier_tapes_.size() < 2) frontier_tapes_.resize(2);
+  std::vector<Item> frontier{{Rect{0, n, 0, n}, &tape}};
+  int parent_step = n;
+  const int bfs_levels = std::min(2, levels);
+  for (int level = 0; level < bfs_levels; ++level) {
+    const int per_edge = (parent_step + tiles[level] - 1) / tiles[level];
+    const std::size_t groups = (static_cast<std::size_t>(per_edge) * per_edge + kLanes - 1) / kLanes;
+    std::vector<Tape>& store = frontier_tapes_[level];
+    if (store.size() < frontier.size() * groups * kLanes) store.resize(frontier.size() * groups * kLanes);
+    std::vector<std::vector<Item>> parts(frontier.size());
+    parallel_for(static_cast<int>(frontier.size()), [&](Worker& w, int i) {
+      split(w, *frontier[i].tape, level, frontier[i].rect,
+            [&](int g) { return &store[(static_cast<std::size_t>(i) * groups + g) * kLanes]; },
+            [&](const Item& child) { parts[i].push_back(child); });
+    });
+    frontier.clear();
+    for (auto& p : parts) frontier.insert(frontier.end(), p.begin(), p.end());
+    parent_step = tiles[level];
+  }
+  parallel_for(static_cast<int>(frontier.size()),
+               [&](Worker& w, int i) { descend(descend, w, frontier[i], bfs_levels - 1); });
+  return img;
+}
+
+template <class F>
+void Renderer2D::parallel_for(int items, const F& body) {
   std::atomic<int> next_item{0};
   std::exception_ptr error;
   std::atomic<bool> failed{false};
   auto run = [&](Worker& w) {
     try {
-      if (w.tapes.size() < tiles.size()) w.tapes.resize(tiles.size());  // never while in use
-      for (int i; (i = next_item.fetch_add(1)) < items && !failed.load();) {
-        const int tx = (i % per_row) * step, ty = (i / per_row) * step;
-        tile(tile, w, tape, 0, tx, std::min(tx + step, n), ty, std::min(ty + step, n));
-      }
+      for (int i; (i = next_item.fetch_add(1, std::memory_order_relaxed)) < items && !failed.load();) body(w, i);
     } catch (...) {
       if (!failed.exchange(true)) error = std::current_exception();
     }
   };
   const std::size_t nthreads = std::min<std::size_t>(workers_.size(), static_cast<std::size_t>(items));
   std::vector<std::thread> pool;
-  for (std::size_t i = 1; i < nthreads; ++i) pool.emplace_back(run, std::ref(*workers_[i]));
+  for (std::size_t t = 1; t < nthreads; ++t) pool.emplace_back(run, std::ref(*workers_[t]));
   run(*workers_[0]);
   for (auto& th : pool) th.join();
   if (error) std::rethrow_exception(error);
-  return img;
 }
 
 Image render2d(const Tape& tape, const RenderOptions& options) {

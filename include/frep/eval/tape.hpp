@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "frep/eval/interval.hpp"
@@ -31,6 +32,8 @@ struct RegInstr {
   static constexpr std::uint8_t kImmB = 2;
 };
 
+class IntervalBatchEvaluator;
+
 class Tape {
  public:
   Tape() = default;
@@ -38,13 +41,14 @@ class Tape {
   // Compiles the part of `g` reachable from `root`. Iterative; linear in the node count.
   static Tape compile(const Graph& g, NodeId root);
   // Builds a tape from SSA instructions (root last); folds constants and allocates registers.
-  static Tape from_ssa(std::vector<SsaInstr> ssa);
+  static Tape from_ssa(const std::vector<SsaInstr>& ssa);
 
-  const std::vector<SsaInstr>& ssa() const { return ssa_; }
-  const std::vector<RegInstr>& code() const { return code_; }
+  std::span<const SsaInstr> ssa() const { return {ssa_.data(), ssa_size_}; }
+  // Register code; empty if the tape was simplified without registers.
+  std::span<const RegInstr> code() const { return {code_.data(), code_size_}; }
   std::uint32_t num_registers() const { return num_regs_; }
   std::uint32_t root_register() const { return root_reg_; }
-  std::size_t size() const { return ssa_.size(); }
+  std::size_t size() const { return ssa_size_; }
   // Number of min/max/and/or instructions: zero means simplifying cannot shrink it further.
   std::uint32_t choice_count() const { return choices_; }
   // Bit 0/1/2: x/y/z appear in the tape.
@@ -53,23 +57,36 @@ class Tape {
   // Rebuilds the tape keeping only what matters inside a region, given the per-instruction
   // intervals and choices of an interval evaluation over that region: one-sided choices become
   // their winning side, regions where an instruction is a single non-zero value become that
-  // constant, and dead code is dropped. Writes into `out` to reuse its storage.
-  void simplify(const std::vector<Interval>& values, const std::vector<Choice>& choices, Tape& out) const;
+  // constant, and dead code is dropped. Writes into `out` to reuse its storage. Without
+  // `registers`, only the SSA form is built: enough for further interval evaluation and
+  // simplification, not for the point, batch or gradient evaluators.
+  void simplify(const std::vector<Interval>& values, const std::vector<Choice>& choices, Tape& out,
+                bool registers = true) const;
   Tape simplified(const std::vector<Interval>& values, const std::vector<Choice>& choices) const;
 
- private:
-  void finish();  // compacts, counts and allocates registers
-  std::uint32_t emit(const SsaInstr& ins);  // appends with constant folding
+  // The same for every box of an IntervalBatchEvaluator run whose bit is set in `lanes`: writes
+  // outs[lane]. One backward pass over this tape serves all of them (lane bit masks).
+  void simplify_lanes(const IntervalBatchEvaluator& ev, std::uint32_t lanes, Tape* outs, bool registers) const;
 
+ private:
+  friend class IntervalBatchEvaluator;
+  class Builder;
+  static void rebuild(std::span<const SsaInstr> src, const Interval* values, const Choice* choices, Tape& out,
+                      bool registers);
+  void allocate_registers();
+
+  // Buffers only grow (their size is a high-water mark), so reusing a tape as the output of
+  // simplification again and again neither allocates nor re-initializes memory.
   std::vector<SsaInstr> ssa_;
   std::vector<RegInstr> code_;
+  std::size_t ssa_size_ = 0;
+  std::size_t code_size_ = 0;
   std::uint32_t num_regs_ = 0;
   std::uint32_t root_reg_ = 0;
   std::uint32_t choices_ = 0;
   std::uint8_t vars_ = 0;
-  // Scratch reused when this tape is the output of simplify(), so that re-simplifying in a
-  // loop does not allocate.
-  std::vector<std::uint32_t> scratch_a_, scratch_b_;
+  std::vector<std::uint32_t> remap_;  // scratch for simplification into this tape
+  std::vector<std::uint8_t> state_;   // scratch for simplification into this tape
 };
 
 }  // namespace frep

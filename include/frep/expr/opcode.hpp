@@ -42,13 +42,14 @@ namespace frep {
   X(And, 30, "and", 2)           \
   X(Or, 31, "or", 2)
 
+inline constexpr int kOpCount = 32;
+
 enum class Op : std::uint8_t {
 #define FREP_X(name, id, text, arity) name = id,
   FREP_OPCODES(FREP_X)
 #undef FREP_X
 };
 
-inline constexpr int kOpCount = 32;
 
 constexpr std::string_view op_name(Op op) {
   switch (op) {
@@ -61,16 +62,16 @@ constexpr std::string_view op_name(Op op) {
   return "?";
 }
 
-constexpr int op_arity(Op op) {
-  switch (op) {
-#define FREP_X(name, id, text, arity) \
-  case Op::name:                      \
-    return arity;
+namespace detail {
+inline constexpr std::uint8_t kArity[kOpCount] = {
+#define FREP_X(name, id, text, arity) arity,
     FREP_OPCODES(FREP_X)
 #undef FREP_X
-  }
-  return -1;
-}
+};
+}  // namespace detail
+
+// A table lookup: this sits on the hot path of tape simplification.
+constexpr int op_arity(Op op) { return detail::kArity[static_cast<std::uint8_t>(op)]; }
 
 // Parses an opcode's text name; nullopt if unknown.
 constexpr std::optional<Op> op_from_name(std::string_view s) {

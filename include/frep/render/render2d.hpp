@@ -14,7 +14,7 @@ struct RenderOptions {
   int size = 1024;                            // image width and height in pixels
   int threads = 0;                            // worker threads; 0 = all hardware threads
   float z = 0.0f;                             // the z of the slice for 3D expressions
-  std::vector<int> tiles = {256, 64, 16, 4};  // tile edge per subdivision level, largest first;
+  std::vector<int> tiles = {256, 64, 16};     // tile edge per subdivision level, largest first;
                                               // the last level is evaluated pixel by pixel (SIMD)
 };
 
@@ -33,8 +33,12 @@ class Renderer2D {
 
  private:
   struct Worker;
+  template <class F>
+  void parallel_for(int items, const F& body);  // body(worker, item), items handed out dynamically
+
   RenderOptions options_;
   std::vector<std::unique_ptr<Worker>> workers_;
+  std::vector<std::vector<Tape>> frontier_tapes_;  // simplified tapes of the breadth-first levels
 };
 
 // One-shot helper.

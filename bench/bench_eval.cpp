@@ -1,0 +1,151 @@
+// Engine benchmarks: the Prospero render (tiled + pruned vs brute force) and evaluator
+// throughput. Run: build/bench/bench_eval (needs ../shared/data/vm).
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <random>
+
+#include "frep/eval/evaluators.hpp"
+#include "frep/io/vm.hpp"
+#include "frep/render/render2d.hpp"
+
+namespace {
+
+std::string data_path(const char* name) { return std::string(FREP_SOURCE_DIR "/../shared/data/vm/") + name; }
+
+const frep::Tape* load_tape(const char* name) {
+  static std::map<std::string, frep::Tape> cache;
+  auto it = cache.find(name);
+  if (it != cache.end()) return &it->second;
+  const std::string path = data_path(name);
+  if (!std::filesystem::exists(path)) return nullptr;
+  frep::Model m = frep::read_vm(path);
+  return &cache.emplace(name, frep::Tape::compile(*m.graph, m.root)).first->second;
+}
+
+void BM_ProsperoRender(benchmark::State& state) {
+  const frep::Tape* tape = load_tape("prospero.vm");
+  if (!tape) return state.SkipWithError("../shared/data/vm/prospero.vm not found");
+  frep::RenderOptions opt;
+  opt.size = static_cast<int>(state.range(0));
+  opt.threads = static_cast<int>(state.range(1));
+  if (const char* t = std::getenv("FREP_TILES")) {  // for tuning: e.g. FREP_TILES=256,64,16
+    opt.tiles.clear();
+    for (const char* p = t; *p;) {
+      opt.tiles.push_back(std::atoi(p));
+      while (*p && *p != ',') ++p;
+      if (*p == ',') ++p;
+    }
+  }
+  frep::Renderer2D renderer(opt);
+  frep::Image img = renderer.render(*tape);  // warm-up, and the correctness check below
+  static bool checked = false;
+  if (!checked) {
+    checked = true;
+    const frep::Image ref = frep::render2d_brute_force(*tape, opt);
+    if (ref.pixels != img.pixels) {
+      std::fprintf(stderr, "MISMATCH: tiled render differs from brute force\n");
+      std::exit(1);
+    }
+    std::fprintf(stderr, "check: tiled %dx%d render equals brute force (%s)\n", opt.size, opt.size,
+                 frep::BatchEvaluator::target_name());
+  }
+  for (auto _ : state) {
+    img = renderer.render(*tape);
+    benchmark::DoNotOptimize(img.pixels.data());
+  }
+  state.counters["ms_per_frame"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["ms_per_frame"] = state.counters["ms_per_frame"] * 1e3;
+}
+BENCHMARK(BM_ProsperoRender)->Args({1024, 1})->Args({1024, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_ProsperoBruteForce(benchmark::State& state) {
+  const frep::Tape* tape = load_tape("prospero.vm");
+  if (!tape) return state.SkipWithError("../shared/data/vm/prospero.vm not found");
+  frep::RenderOptions opt;
+  opt.size = static_cast<int>(state.range(0));
+  for (auto _ : state) {
+    frep::Image img = frep::render2d_brute_force(*tape, opt);
+    benchmark::DoNotOptimize(img.pixels.data());
+  }
+}
+BENCHMARK(BM_ProsperoBruteForce)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+struct PointSet {
+  std::vector<float> x, y, z, out;
+};
+PointSet random_points(std::size_t n, bool three_d) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  PointSet p;
+  for (std::size_t i = 0; i < n; ++i) {
+    p.x.push_back(u(rng));
+    p.y.push_back(u(rng));
+    p.z.push_back(three_d ? u(rng) : 0.0f);
+  }
+  p.out.resize(n);
+  return p;
+}
+
+void BM_BatchEval(benchmark::State& state, const char* name) {
+  const frep::Tape* tape = load_tape(name);
+  if (!tape) return state.SkipWithError("shared data not found");
+  PointSet p = random_points(4096, true);
+  frep::BatchEvaluator ev;
+  for (auto _ : state) {
+    ev.eval(*tape, p.x.data(), p.y.data(), p.z.data(), p.out.data(), p.x.size());
+    benchmark::DoNotOptimize(p.out.data());
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * p.x.size()));
+}
+BENCHMARK_CAPTURE(BM_BatchEval, prospero, "prospero.vm");
+BENCHMARK_CAPTURE(BM_BatchEval, bear, "bear.vm");
+
+void BM_PointEval(benchmark::State& state, const char* name) {
+  const frep::Tape* tape = load_tape(name);
+  if (!tape) return state.SkipWithError("shared data not found");
+  PointSet p = random_points(256, true);
+  frep::PointEvaluator ev;
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < p.x.size(); ++i) p.out[i] = ev.eval(*tape, p.x[i], p.y[i], p.z[i]);
+    benchmark::DoNotOptimize(p.out.data());
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * p.x.size()));
+}
+BENCHMARK_CAPTURE(BM_PointEval, prospero, "prospero.vm");
+BENCHMARK_CAPTURE(BM_PointEval, bear, "bear.vm");
+
+void BM_GradEval(benchmark::State& state, const char* name) {
+  const frep::Tape* tape = load_tape(name);
+  if (!tape) return state.SkipWithError("shared data not found");
+  PointSet p = random_points(1024, true);
+  std::vector<frep::Grad> g(p.x.size());
+  frep::GradEvaluator ev;
+  for (auto _ : state) {
+    ev.eval(*tape, p.x.data(), p.y.data(), p.z.data(), g.data(), p.x.size());
+    benchmark::DoNotOptimize(g.data());
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * p.x.size()));
+}
+BENCHMARK_CAPTURE(BM_GradEval, prospero, "prospero.vm");
+BENCHMARK_CAPTURE(BM_GradEval, bear, "bear.vm");
+
+void BM_IntervalEval(benchmark::State& state, const char* name) {
+  const frep::Tape* tape = load_tape(name);
+  if (!tape) return state.SkipWithError("shared data not found");
+  frep::IntervalEvaluator ev;
+  for (auto _ : state) {
+    auto r = ev.eval(*tape, {-0.5f, -0.25f}, {0.25f, 0.5f}, {0.0f, 0.0f});
+    benchmark::DoNotOptimize(r);
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()));
+}
+BENCHMARK_CAPTURE(BM_IntervalEval, prospero, "prospero.vm");
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,281 @@
+// IntervalBatchEvaluator: interval arithmetic on 16 boxes at once. Highway compiles this file
+// once per instruction set and picks the best at run time. The common ops are SIMD across the
+// boxes; the rest fall back to the scalar interval code box by box, so results always equal
+// IntervalEvaluator's.
+#ifndef HWY_DISABLED_TARGETS
+#define HWY_DISABLED_TARGETS (HWY_SSSE3 | HWY_AVX3_DL)
+#endif
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "eval/interval_batch.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <optional>
+
+#include "eval/interval_ops.hpp"
+#include "frep/error.hpp"
+#include "eval/tape_builder.hpp"
+#include "frep/eval/interval_batch.hpp"
+
+HWY_BEFORE_NAMESPACE();
+namespace frep {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using D = hn::ScalableTag<float>;
+using V = hn::Vec<D>;
+using M = hn::Mask<D>;
+constexpr int L = IntervalBatchEvaluator::kLanes;
+
+HWY_INLINE std::uint32_t Bits(D d, M m) {
+  std::uint8_t buf[8] = {0};
+  hn::StoreMaskBits(d, m, buf);
+  std::uint32_t v;
+  std::memcpy(&v, buf, sizeof v);
+  return v;
+}
+
+// Runs f(lo_out, hi_out, j) for every group of lanes; f stores and returns choice bits.
+template <class F>
+HWY_INLINE void Lanes(F f) {
+  const D d;
+  for (int j = 0; j < L; j += static_cast<int>(hn::Lanes(d))) f(d, j);
+}
+
+void EvalBoxes(const SsaInstr* code, std::size_t n, float* lo, float* hi, std::uint16_t* left,
+               std::uint16_t* right, std::uint16_t* fold, const float* box) {
+  const D d;
+  const V nan = hn::Set(d, std::numeric_limits<float>::quiet_NaN());
+  const V zero = hn::Zero(d);
+  for (std::size_t i = 0; i < n; ++i) {
+    const SsaInstr& ins = code[i];
+    float* HWY_RESTRICT olo = lo + i * L;
+    float* HWY_RESTRICT ohi = hi + i * L;
+    const float* alo = lo + static_cast<std::size_t>(ins.a) * L;
+    const float* ahi = hi + static_cast<std::size_t>(ins.a) * L;
+    const float* blo = lo + static_cast<std::size_t>(ins.b) * L;
+    const float* bhi = hi + static_cast<std::size_t>(ins.b) * L;
+    std::uint32_t lbits = 0, rbits = 0;
+    auto store = [&](D dd, int j, V rl, V rh, M unknown) {
+      hn::Store(hn::IfThenElse(unknown, nan, rl), dd, olo + j);
+      hn::Store(hn::IfThenElse(unknown, nan, rh), dd, ohi + j);
+    };
+    switch (ins.op) {
+      case Op::VarX:
+      case Op::VarY:
+      case Op::VarZ: {
+        const int axis = static_cast<int>(ins.op) - static_cast<int>(Op::VarX);
+        std::memcpy(olo, box + (2 * axis) * L, L * sizeof(float));
+        std::memcpy(ohi, box + (2 * axis + 1) * L, L * sizeof(float));
+        break;
+      }
+      case Op::Const:
+        for (int j = 0; j < L; ++j) olo[j] = ohi[j] = ins.value;
+        break;
+      case Op::Add:
+        Lanes([&](D dd, int j) {
+          const V rl = hn::Add(hn::Load(dd, alo + j), hn::Load(dd, blo + j));
+          const V rh = hn::Add(hn::Load(dd, ahi + j), hn::Load(dd, bhi + j));
+          store(dd, j, rl, rh, hn::Or(hn::IsNaN(rl), hn::IsNaN(rh)));
+        });
+        break;
+      case Op::Sub:
+        Lanes([&](D dd, int j) {
+          const V rl = hn::Sub(hn::Load(dd, alo + j), hn::Load(dd, bhi + j));
+          const V rh = hn::Sub(hn::Load(dd, ahi + j), hn::Load(dd, blo + j));
+          store(dd, j, rl, rh, hn::Or(hn::IsNaN(rl), hn::IsNaN(rh)));
+        });
+        break;
+      case Op::Neg:
+        Lanes([&](D dd, int j) {
+          hn::Store(hn::Neg(hn::Load(dd, ahi + j)), dd, olo + j);
+          hn::Store(hn::Neg(hn::Load(dd, alo + j)), dd, ohi + j);
+        });
+        break;
+      case Op::Mul:
+        Lanes([&](D dd, int j) {
+          const V al = hn::Load(dd, alo + j), ah = hn::Load(dd, ahi + j);
+          const V bl = hn::Load(dd, blo + j), bh = hn::Load(dd, bhi + j);
+          const V p0 = hn::Mul(al, bl), p1 = hn::Mul(al, bh), p2 = hn::Mul(ah, bl), p3 = hn::Mul(ah, bh);
+          const M bad = hn::Or(hn::Or(hn::IsNaN(p0), hn::IsNaN(p1)), hn::Or(hn::IsNaN(p2), hn::IsNaN(p3)));
+          store(dd, j, hn::Min(hn::Min(p0, p1), hn::Min(p2, p3)), hn::Max(hn::Max(p0, p1), hn::Max(p2, p3)), bad);
+        });
+        break;
+      case Op::Square:
+        Lanes([&](D dd, int j) {
+          const V al = hn::Load(dd, alo + j), ah = hn::Load(dd, ahi + j);
+          const V l2 = hn::Mul(al, al), h2 = hn::Mul(ah, ah);
+          const M pos = al >= zero, neg = ah <= zero;
+          const V rl = hn::IfThenElse(pos, l2, hn::IfThenElse(neg, h2, zero));
+          const V rh = hn::IfThenElse(pos, h2, hn::IfThenElse(neg, l2, hn::Max(l2, h2)));
+          store(dd, j, rl, rh, hn::Or(hn::IsNaN(al), hn::IsNaN(ah)));
+        });
+        break;
+      case Op::Sqrt:
+        Lanes([&](D dd, int j) {
+          const V al = hn::Load(dd, alo + j), ah = hn::Load(dd, ahi + j);
+          store(dd, j, hn::Sqrt(al), hn::Sqrt(ah), hn::Not(al >= zero));
+        });
+        break;
+      case Op::Abs:
+        Lanes([&](D dd, int j) {
+          const V al = hn::Load(dd, alo + j), ah = hn::Load(dd, ahi + j);
+          const M pos = al >= zero, neg = ah <= zero;
+          const V rl = hn::IfThenElse(pos, al, hn::IfThenElse(neg, hn::Neg(ah), zero));
+          const V rh = hn::IfThenElse(pos, ah, hn::IfThenElse(neg, hn::Neg(al), hn::Max(hn::Neg(al), ah)));
+          store(dd, j, rl, rh, hn::Or(hn::IsNaN(al), hn::IsNaN(ah)));
+        });
+        break;
+      case Op::Min:
+      case Op::Max: {
+        const bool is_min = ins.op == Op::Min;
+        Lanes([&](D dd, int j) {
+          const V al = hn::Load(dd, alo + j), ah = hn::Load(dd, ahi + j);
+          const V bl = hn::Load(dd, blo + j), bh = hn::Load(dd, bhi + j);
+          const M unknown = hn::Or(hn::Or(hn::IsNaN(al), hn::IsNaN(ah)), hn::Or(hn::IsNaN(bl), hn::IsNaN(bh)));
+          // Comparisons with NaN are false, so unknown lanes make no choice.
+          if (is_min) {
+            lbits |= Bits(dd, ah < bl) << j;
+            rbits |= Bits(dd, bh < al) << j;
+            store(dd, j, hn::Min(al, bl), hn::Min(ah, bh), unknown);
+          } else {
+            lbits |= Bits(dd, al > bh) << j;
+            rbits |= Bits(dd, bl > ah) << j;
+            store(dd, j, hn::Max(al, bl), hn::Max(ah, bh), unknown);
+          }
+        });
+        break;
+      }
+      default: {
+        const bool binary = op_arity(ins.op) == 2;
+        for (int k = 0; k < L; ++k) {
+          Choice c;
+          const Interval r = ival::op(ins.op, {alo[k], ahi[k]}, binary ? Interval{blo[k], bhi[k]} : Interval{}, &c);
+          olo[k] = r.lo;
+          ohi[k] = r.hi;
+          if (c == Choice::Left) lbits |= 1u << k;
+          if (c == Choice::Right) rbits |= 1u << k;
+        }
+      }
+    }
+    left[i] = static_cast<std::uint16_t>(lbits);
+    right[i] = static_cast<std::uint16_t>(rbits);
+    std::uint32_t fbits = 0;
+    if (op_arity(ins.op) > 0) {
+      // Single-valued lanes fold to a constant (a zero only where the op yields an exact +0).
+      const bool zero_ok = ins.op == Op::Compare || ins.op == Op::Not;
+      Lanes([&](D dd, int j) {
+        const V l = hn::Load(dd, olo + j), h = hn::Load(dd, ohi + j);
+        const M single = l == h;
+        fbits |= Bits(dd, zero_ok ? single : hn::And(single, l != zero)) << j;
+      });
+    }
+    fold[i] = static_cast<std::uint16_t>(fbits);
+  }
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace frep
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace frep {
+HWY_EXPORT(EvalBoxes);
+
+IntervalBatchEvaluator::IntervalBatchEvaluator() = default;
+IntervalBatchEvaluator::~IntervalBatchEvaluator() {
+  std::free(lo_);
+  std::free(hi_);
+}
+
+void IntervalBatchEvaluator::eval(const Tape& tape, const Interval* x, const Interval* y, const Interval* z,
+                                  int count) {
+  FREP_ASSERT(count >= 1 && count <= kLanes, "between 1 and 16 boxes");
+  const std::size_t n = tape.size();
+  FREP_ASSERT(n > 0, "empty tape");
+  if (n > capacity_) {
+    std::free(lo_);
+    std::free(hi_);
+    const std::size_t bytes = n * kLanes * sizeof(float);
+    lo_ = static_cast<float*>(std::aligned_alloc(64, bytes));
+    hi_ = static_cast<float*>(std::aligned_alloc(64, bytes));
+    if (!lo_ || !hi_) throw std::bad_alloc();
+    capacity_ = n;
+    left_.resize(n);
+    right_.resize(n);
+    fold_.resize(n);
+  }
+  size_ = n;
+  // Box bounds as six rows of 16 lanes; unused lanes repeat box 0.
+  alignas(64) float box[6 * kLanes];
+  for (int k = 0; k < kLanes; ++k) {
+    const int s = k < count ? k : 0;
+    box[0 * kLanes + k] = x[s].lo;
+    box[1 * kLanes + k] = x[s].hi;
+    box[2 * kLanes + k] = y[s].lo;
+    box[3 * kLanes + k] = y[s].hi;
+    box[4 * kLanes + k] = z[s].lo;
+    box[5 * kLanes + k] = z[s].hi;
+  }
+  HWY_DYNAMIC_DISPATCH(EvalBoxes)(tape.ssa().data(), n, lo_, hi_, left_.data(), right_.data(), fold_.data(), box);
+}
+
+void IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t lanes, Tape* outs, bool registers) {
+  const std::size_t n = size_;
+  FREP_ASSERT(tape.size() == n, "simplify needs the tape of the last eval");
+  lanes &= (1u << kLanes) - 1;
+  if (!lanes) return;
+  const SsaInstr* in = tape.ssa().data();
+  // Backward pass for all boxes at once: live_[i] has a bit for each box that needs instruction i.
+  live_.assign(n, 0);
+  live_[n - 1] = static_cast<std::uint16_t>(lanes);
+  for (std::size_t i = n; i-- > 0;) {
+    const std::uint32_t m = live_[i];
+    if (!m) continue;
+    const SsaInstr& ins = in[i];
+    const int ar = op_arity(ins.op);
+    if (ar == 0) continue;
+    const std::uint32_t rest = m & ~static_cast<std::uint32_t>(fold_[i]);
+    if (op_is_choice(ins.op)) {
+      const std::uint32_t l = rest & left_[i], r = rest & right_[i], both = rest & ~(l | r);
+      live_[ins.a] |= static_cast<std::uint16_t>(l | both);
+      live_[ins.b] |= static_cast<std::uint16_t>(r | both);
+    } else {
+      live_[ins.a] |= static_cast<std::uint16_t>(rest);
+      if (ar == 2) live_[ins.b] |= static_cast<std::uint16_t>(rest);
+    }
+  }
+  // Forward pass: each box's builder sees only the instructions it needs.
+  std::optional<Tape::Builder> builders[kLanes];
+  for (std::uint32_t bits = lanes; bits; bits &= bits - 1) {
+    const int k = __builtin_ctz(bits);
+    builders[k].emplace(outs[k], n, registers);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t m = live_[i];
+    if (!m) continue;
+    const SsaInstr& ins = in[i];
+    if (op_arity(ins.op) == 0) {
+      for (std::uint32_t bits = m; bits; bits &= bits - 1) builders[__builtin_ctz(bits)]->keep(i, ins);
+      continue;
+    }
+    const std::uint32_t f = m & fold_[i];
+    const std::uint32_t rest = m & ~f;
+    const bool choice = op_is_choice(ins.op);
+    const std::uint32_t l = choice ? rest & left_[i] : 0, r = choice ? rest & right_[i] : 0;
+    const std::uint32_t keep = rest & ~(l | r);
+    for (std::uint32_t bits = f; bits; bits &= bits - 1) {
+      const int k = __builtin_ctz(bits);
+      builders[k]->constant(i, lo_[i * kLanes + k]);
+    }
+    for (std::uint32_t bits = l; bits; bits &= bits - 1) builders[__builtin_ctz(bits)]->alias(i, ins.a);
+    for (std::uint32_t bits = r; bits; bits &= bits - 1) builders[__builtin_ctz(bits)]->alias(i, ins.b);
+    for (std::uint32_t bits = keep; bits; bits &= bits - 1) builders[__builtin_ctz(bits)]->keep(i, ins);
+  }
+  for (std::uint32_t bits = lanes; bits; bits &= bits - 1) builders[__builtin_ctz(bits)]->finish(n - 1);
+}
+
+}  // namespace frep
+#endif  // HWY_ONCE

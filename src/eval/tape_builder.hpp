@@ -1,0 +1,109 @@
+// Tape::Builder (private to the evaluation code): writes one output tape during a forward sweep
+// over a source tape. Shared by single-box and 16-box simplification.
+#pragma once
+
+#include "frep/error.hpp"
+#include "frep/eval/tape.hpp"
+#include "frep/expr/semantics.hpp"
+
+namespace frep {
+
+// Up to this many values, one register per value beats running the allocator (the batch
+// evaluator's scratch stays small); beyond it registers are reused.
+inline constexpr std::size_t kMaxTrivialRegisters = 384;
+
+// Compacts the kept instructions, folds those whose arguments all became constants (exactly),
+// and emits register code with one register per value on the fly.
+class Tape::Builder {
+ public:
+  Builder(Tape& out, std::size_t n_in, bool registers) : out_(out), registers_(registers) {
+    if (out.ssa_.size() < n_in) out.ssa_.resize(n_in);
+    if (registers && out.code_.size() < n_in) out.code_.resize(n_in);
+    if (out.remap_.size() < n_in) out.remap_.resize(n_in);
+    os_ = out.ssa_.data();
+    oc_ = out.code_.data();
+    remap_ = out.remap_.data();
+  }
+
+  void alias(std::size_t i, std::uint32_t src) { remap_[i] = remap_[src]; }
+
+  void constant(std::size_t i, float v) {
+    remap_[i] = m_;
+    os_[m_++] = {Op::Const, 0, 0, v};
+  }
+
+  void keep(std::size_t i, const SsaInstr& ins) {
+    remap_[i] = m_;
+    const int ar = op_arity(ins.op);
+    if (ar == 0) {
+      os_[m_] = ins;
+      if (ins.op != Op::Const) {
+        vars_ |= static_cast<std::uint8_t>(1u << (static_cast<int>(ins.op) - static_cast<int>(Op::VarX)));
+        if (registers_) oc_[k_++] = {ins.op, 0, m_, 0, 0, 0.0f};
+      }
+      ++m_;
+      return;
+    }
+    const std::uint32_t a = remap_[ins.a];
+    const std::uint32_t b = ar == 2 ? remap_[ins.b] : 0;
+    const bool ca = os_[a].op == Op::Const;
+    const bool cb = ar == 2 && os_[b].op == Op::Const;
+    if (ca && (ar == 1 || cb)) {
+      os_[m_++] = {Op::Const, 0, 0, op_eval<float>(ins.op, os_[a].value, cb ? os_[b].value : 0.0f)};
+      return;
+    }
+    choices_ += op_is_choice(ins.op);
+    os_[m_] = {ins.op, a, b, 0.0f};
+    if (registers_) {
+      RegInstr& r = oc_[k_++];
+      r = {ins.op, 0, m_, a, b, 0.0f};
+      if (ca) {
+        r.mode = RegInstr::kImmA;
+        r.imm = os_[a].value;
+      } else if (cb) {
+        r.mode = RegInstr::kImmB;
+        r.imm = os_[b].value;
+      }
+    }
+    ++m_;
+  }
+
+  void finish(std::size_t root_in) {
+    Tape& t = out_;
+    t.ssa_size_ = m_;
+    t.code_size_ = k_;
+    t.choices_ = choices_;
+    t.vars_ = vars_;
+    const std::uint32_t root = remap_[root_in];
+    if (root + 1 != m_) {
+      // Only a constant root can end up before other (then dead) instructions.
+      FREP_ASSERT(os_[root].op == Op::Const, "root is not last");
+      os_[0] = os_[root];
+      t.ssa_size_ = 1;
+      t.choices_ = 0;
+      t.vars_ = 0;
+    }
+    t.num_regs_ = static_cast<std::uint32_t>(t.ssa_size_);
+    t.root_reg_ = static_cast<std::uint32_t>(t.ssa_size_ - 1);
+    if (!registers_) {
+      t.code_size_ = 0;
+      t.num_regs_ = 0;
+      t.root_reg_ = 0;
+    } else if (os_[t.ssa_size_ - 1].op == Op::Const || t.ssa_size_ > kMaxTrivialRegisters) {
+      t.allocate_registers();
+    }
+  }
+
+ private:
+  Tape& out_;
+  bool registers_;
+  SsaInstr* os_;
+  RegInstr* oc_;
+  std::uint32_t* remap_;
+  std::uint32_t m_ = 0;  // SSA instructions written
+  std::uint32_t k_ = 0;  // register instructions written
+  std::uint32_t choices_ = 0;
+  std::uint8_t vars_ = 0;
+};
+
+}  // namespace frep
