@@ -49,6 +49,24 @@ HWY_INLINE void Binary(const RegInstr& ins, const float* regs, float* o, std::si
   }
 }
 
+// min and max with frep's semantics: NaN if either argument is NaN, else p < q ? p : q (q on
+// ties). x86's minps/maxps compute exactly p < q ? p : q, returning q when either is NaN, so
+// only a NaN in p needs fixing; elsewhere the comparison is spelled out.
+HWY_INLINE V MinNaN(V p, V q) {
+#if HWY_ARCH_X86 && HWY_TARGET != HWY_EMU128
+  return hn::IfThenElse(hn::IsNaN(p), p, hn::Min(p, q));
+#else
+  return hn::IfThenElse(hn::Or(p < q, hn::IsNaN(p)), p, q);
+#endif
+}
+HWY_INLINE V MaxNaN(V p, V q) {
+#if HWY_ARCH_X86 && HWY_TARGET != HWY_EMU128
+  return hn::IfThenElse(hn::IsNaN(p), p, hn::Max(p, q));
+#else
+  return hn::IfThenElse(hn::Or(p > q, hn::IsNaN(p)), p, q);
+#endif
+}
+
 // Ops without a SIMD form here (libm functions, fmod): scalar, with the reference semantics.
 HWY_NOINLINE void ScalarOp(const RegInstr& ins, const float* regs, float* o, std::size_t stride,
                            std::size_t count) {
@@ -101,12 +119,10 @@ void EvalChunk(const RegInstr* code, std::size_t ncode, float* regs, std::size_t
       case Op::Mul: Binary(ins, regs, o, stride, count, [](V p, V q) { return hn::Mul(p, q); }); break;
       case Op::Div: Binary(ins, regs, o, stride, count, [](V p, V q) { return hn::Div(p, q); }); break;
       case Op::Min:  // NaN if either is NaN, else p < q ? p : q
-        Binary(ins, regs, o, stride, count,
-               [](V p, V q) { return hn::IfThenElse(hn::Or(p < q, hn::IsNaN(p)), p, q); });
+        Binary(ins, regs, o, stride, count, [](V p, V q) { return MinNaN(p, q); });
         break;
       case Op::Max:
-        Binary(ins, regs, o, stride, count,
-               [](V p, V q) { return hn::IfThenElse(hn::Or(p > q, hn::IsNaN(p)), p, q); });
+        Binary(ins, regs, o, stride, count, [](V p, V q) { return MaxNaN(p, q); });
         break;
       case Op::Compare:
         Binary(ins, regs, o, stride, count, [&](V p, V q) {

@@ -49,6 +49,7 @@ void EvalBoxes(const SsaInstr* code, std::size_t n, float* lo, float* hi, std::u
   const D d;
   const V nan = hn::Set(d, std::numeric_limits<float>::quiet_NaN());
   const V zero = hn::Zero(d);
+  const V pinf = hn::Set(d, std::numeric_limits<float>::infinity()), ninf = hn::Neg(pinf);
   for (std::size_t i = 0; i < n; ++i) {
     const SsaInstr& ins = code[i];
     float* HWY_RESTRICT olo = lo + i * L;
@@ -76,16 +77,21 @@ void EvalBoxes(const SsaInstr* code, std::size_t n, float* lo, float* hi, std::u
         break;
       case Op::Add:
         Lanes([&](D dd, int j) {
-          const V rl = hn::Add(hn::Load(dd, alo + j), hn::Load(dd, blo + j));
-          const V rh = hn::Add(hn::Load(dd, ahi + j), hn::Load(dd, bhi + j));
-          store(dd, j, rl, rh, hn::Or(hn::IsNaN(rl), hn::IsNaN(rh)));
+          const V al = hn::Load(dd, alo + j), ah = hn::Load(dd, ahi + j);
+          const V bl = hn::Load(dd, blo + j), bh = hn::Load(dd, bhi + j);
+          const V rl = hn::Add(al, bl), rh = hn::Add(ah, bh);
+          // -inf + inf inside the boxes gives NaN although the bounds do not show it.
+          const M bad = hn::Or(hn::And(al == ninf, bh == pinf), hn::And(ah == pinf, bl == ninf));
+          store(dd, j, rl, rh, hn::Or(bad, hn::Or(hn::IsNaN(rl), hn::IsNaN(rh))));
         });
         break;
       case Op::Sub:
         Lanes([&](D dd, int j) {
-          const V rl = hn::Sub(hn::Load(dd, alo + j), hn::Load(dd, bhi + j));
-          const V rh = hn::Sub(hn::Load(dd, ahi + j), hn::Load(dd, blo + j));
-          store(dd, j, rl, rh, hn::Or(hn::IsNaN(rl), hn::IsNaN(rh)));
+          const V al = hn::Load(dd, alo + j), ah = hn::Load(dd, ahi + j);
+          const V bl = hn::Load(dd, blo + j), bh = hn::Load(dd, bhi + j);
+          const V rl = hn::Sub(al, bh), rh = hn::Sub(ah, bl);
+          const M bad = hn::Or(hn::And(ah == pinf, bh == pinf), hn::And(al == ninf, bl == ninf));
+          store(dd, j, rl, rh, hn::Or(bad, hn::Or(hn::IsNaN(rl), hn::IsNaN(rh))));
         });
         break;
       case Op::Neg:
@@ -99,7 +105,11 @@ void EvalBoxes(const SsaInstr* code, std::size_t n, float* lo, float* hi, std::u
           const V al = hn::Load(dd, alo + j), ah = hn::Load(dd, ahi + j);
           const V bl = hn::Load(dd, blo + j), bh = hn::Load(dd, bhi + j);
           const V p0 = hn::Mul(al, bl), p1 = hn::Mul(al, bh), p2 = hn::Mul(ah, bl), p3 = hn::Mul(ah, bh);
-          const M bad = hn::Or(hn::Or(hn::IsNaN(p0), hn::IsNaN(p1)), hn::Or(hn::IsNaN(p2), hn::IsNaN(p3)));
+          // 0 * inf inside the boxes gives NaN although the corner products may not show it.
+          const M a_zero = hn::And(al <= zero, ah >= zero), b_zero = hn::And(bl <= zero, bh >= zero);
+          const M a_inf = hn::Or(al == ninf, ah == pinf), b_inf = hn::Or(bl == ninf, bh == pinf);
+          const M bad = hn::Or(hn::Or(hn::Or(hn::IsNaN(p0), hn::IsNaN(p1)), hn::Or(hn::IsNaN(p2), hn::IsNaN(p3))),
+                               hn::Or(hn::And(a_zero, b_inf), hn::And(b_zero, a_inf)));
           store(dd, j, hn::Min(hn::Min(p0, p1), hn::Min(p2, p3)), hn::Max(hn::Max(p0, p1), hn::Max(p2, p3)), bad);
         });
         break;

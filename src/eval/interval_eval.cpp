@@ -27,12 +27,12 @@ Interval IntervalEvaluator::eval(const Tape& tape, Interval x, Interval y, Inter
       case Op::Const: v[i] = Interval::point(ins.value); break;
       case Op::Add: {
         const Interval a = v[ins.a], b = v[ins.b];
-        v[i] = ival::checked(a.lo + b.lo, a.hi + b.hi);
+        v[i] = ival::add_may_nan(a, b) ? Interval::unknown() : ival::checked(a.lo + b.lo, a.hi + b.hi);
         break;
       }
       case Op::Sub: {
         const Interval a = v[ins.a], b = v[ins.b];
-        v[i] = ival::checked(a.lo - b.hi, a.hi - b.lo);
+        v[i] = ival::sub_may_nan(a, b) ? Interval::unknown() : ival::checked(a.lo - b.hi, a.hi - b.lo);
         break;
       }
       case Op::Neg: {

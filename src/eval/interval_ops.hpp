@@ -25,6 +25,17 @@ inline Interval checked(float lo, float hi) {
   if (std::isnan(lo) || std::isnan(hi)) return Interval::unknown();
   return {lo, hi};
 }
+// Whether an interior point pair can give NaN although the bounds do not show it.
+inline bool add_may_nan(Interval a, Interval b) {  // -inf + inf
+  return (a.lo == -kInf && b.hi == kInf) || (a.hi == kInf && b.lo == -kInf);
+}
+inline bool sub_may_nan(Interval a, Interval b) {  // inf - inf
+  return (a.hi == kInf && b.hi == kInf) || (a.lo == -kInf && b.lo == -kInf);
+}
+inline bool mul_may_nan(Interval a, Interval b) {  // 0 * inf
+  return (has_zero(a) && !finite(b)) || (has_zero(b) && !finite(a));
+}
+
 inline Interval hull(Interval a, Interval b) {
   if (a.is_unknown() || b.is_unknown()) return Interval::unknown();
   return {std::min(a.lo, b.lo), std::max(a.hi, b.hi)};
@@ -122,16 +133,20 @@ inline Interval op(Op op, Interval a, Interval b, Choice* choice) {
       if (a.lo == 0 && a.hi == 0) return {1.0f, 1.0f};
       return {0.0f, 1.0f};
     case Op::Add:
+      if (add_may_nan(a, b)) return Interval::unknown();
       return checked(a.lo + b.lo, a.hi + b.hi);
     case Op::Sub:
+      if (sub_may_nan(a, b)) return Interval::unknown();
       return checked(a.lo - b.hi, a.hi - b.lo);
     case Op::Mul: {
+      if (mul_may_nan(a, b)) return Interval::unknown();
       const float p0 = a.lo * b.lo, p1 = a.lo * b.hi, p2 = a.hi * b.lo, p3 = a.hi * b.hi;
       if (std::isnan(p0) || std::isnan(p1) || std::isnan(p2) || std::isnan(p3)) return Interval::unknown();
       return {std::min(std::min(p0, p1), std::min(p2, p3)), std::max(std::max(p0, p1), std::max(p2, p3))};
     }
     case Op::Div: {
       if (b.lo > 0 || b.hi < 0) {
+        if (!finite(a) && !finite(b)) return Interval::unknown();  // inf / inf
         const float q0 = a.lo / b.lo, q1 = a.lo / b.hi, q2 = a.hi / b.lo, q3 = a.hi / b.hi;
         if (std::isnan(q0) || std::isnan(q1) || std::isnan(q2) || std::isnan(q3)) return Interval::unknown();
         return {std::min(std::min(q0, q1), std::min(q2, q3)), std::max(std::max(q0, q1), std::max(q2, q3))};

@@ -25,14 +25,14 @@ class Tape::Builder {
     remap_ = out.remap_.data();
   }
 
-  void alias(std::size_t i, std::uint32_t src) { remap_[i] = remap_[src]; }
+  [[gnu::always_inline]] void alias(std::size_t i, std::uint32_t src) { remap_[i] = remap_[src]; }
 
-  void constant(std::size_t i, float v) {
+  [[gnu::always_inline]] void constant(std::size_t i, float v) {
     remap_[i] = m_;
     os_[m_++] = {Op::Const, 0, 0, v};
   }
 
-  void keep(std::size_t i, const SsaInstr& ins) {
+  [[gnu::always_inline]] inline void keep(std::size_t i, const SsaInstr& ins) {
     remap_[i] = m_;
     const int ar = op_arity(ins.op);
     if (ar == 0) {
