@@ -5,7 +5,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
-#include <unordered_map>
+#include <algorithm>
+#include <charconv>
 #include <vector>
 
 #include "frep/error.hpp"
@@ -33,20 +34,79 @@ std::string quoted(std::string_view s) {
 }
 
 float parse_number(std::string_view tok, const std::string& name, std::uint64_t line_no) {
-  std::string s(tok);
-  char* end = nullptr;
-  errno = 0;
-  const float v = std::strtof(s.c_str(), &end);
-  if (end == s.c_str() || *end != '\0')
-    throw InputError(name, line_no, "bad number " + quoted(tok));
-  return v;  // overflow gives +-inf, as Fidget's reader does
+  std::string_view t = tok;
+  if (!t.empty() && t[0] == '+') t.remove_prefix(1);  // from_chars takes no plus sign
+  float v = 0;
+  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  if (ec == std::errc() && ptr == t.data() + t.size() && !t.empty()) return v;
+  if (ec == std::errc::result_out_of_range && ptr == t.data() + t.size()) {
+    // Overflow gives +-inf and underflow 0 or a denormal, as strtof (and Fidget's reader) do.
+    const std::string s(tok);
+    return std::strtof(s.c_str(), nullptr);
+  }
+  throw InputError(name, line_no, "bad number " + quoted(tok));
 }
+
+// Ids to line indices: open addressing over the lines' own id strings (no per-id allocation,
+// which matters for files with millions of lines).
+class IdTable {
+ public:
+  explicit IdTable(std::size_t expected) {
+    std::size_t cap = 16;
+    while (cap < expected * 2) cap *= 2;
+    slots_.assign(cap, kEmpty);
+  }
+  // Returns the index already stored under `id`, or stores `index` and returns it.
+  std::uint32_t insert(std::string_view id, std::uint32_t index, const std::vector<Line>& lines) {
+    if ((count_ + 1) * 2 > slots_.size()) grow(lines);
+    std::size_t slot = hash(id) & (slots_.size() - 1);
+    while (slots_[slot] != kEmpty) {
+      if (lines[slots_[slot]].id == id) return slots_[slot];
+      slot = (slot + 1) & (slots_.size() - 1);
+    }
+    slots_[slot] = index;
+    ++count_;
+    return index;
+  }
+  std::uint32_t find(std::string_view id, const std::vector<Line>& lines) const {
+    std::size_t slot = hash(id) & (slots_.size() - 1);
+    while (slots_[slot] != kEmpty) {
+      if (lines[slots_[slot]].id == id) return slots_[slot];
+      slot = (slot + 1) & (slots_.size() - 1);
+    }
+    return kEmpty;
+  }
+  static constexpr std::uint32_t kEmpty = 0xFFFFFFFFu;
+
+ private:
+  static std::size_t hash(std::string_view s) {
+    std::uint64_t h = 1469598103934665603ull;  // FNV-1a, then a final mix
+    for (char c : s) h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
+    h ^= h >> 32;
+    return static_cast<std::size_t>(h * 0x9E3779B97F4A7C15ull >> 16);
+  }
+  void grow(const std::vector<Line>& lines) {
+    std::vector<std::uint32_t> old;
+    old.swap(slots_);
+    slots_.assign(old.size() * 2, kEmpty);
+    for (std::uint32_t idx : old) {
+      if (idx == kEmpty) continue;
+      std::size_t slot = hash(lines[idx].id) & (slots_.size() - 1);
+      while (slots_[slot] != kEmpty) slot = (slot + 1) & (slots_.size() - 1);
+      slots_[slot] = idx;
+    }
+  }
+  std::vector<std::uint32_t> slots_;
+  std::size_t count_ = 0;
+};
 
 }  // namespace
 
 Model parse_vm(std::string_view text, const std::string& name) {
   std::vector<Line> lines;
-  std::unordered_map<std::string_view, std::uint32_t> ids;
+  const std::size_t expected = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
+  lines.reserve(expected);
+  IdTable ids(expected);
   std::uint64_t line_no = 0;
   std::size_t pos = 0;
   while (pos <= text.size()) {
@@ -86,19 +146,21 @@ Model parse_vm(std::string_view text, const std::string& name) {
     } else {
       for (int k = 0; k < want; ++k) l.arg_names[k] = tok[2 + k];
     }
-    if (!ids.emplace(l.id, static_cast<std::uint32_t>(lines.size())).second)
-      throw InputError(name, line_no, "id " + quoted(l.id) + " is defined twice (first on line " +
-                                          std::to_string(lines[ids[l.id]].line_no) + ")");
     lines.push_back(l);
+    const std::uint32_t index = static_cast<std::uint32_t>(lines.size() - 1);
+    const std::uint32_t first = ids.insert(l.id, index, lines);
+    if (first != index)
+      throw InputError(name, line_no, "id " + quoted(l.id) + " is defined twice (first on line " +
+                                          std::to_string(lines[first].line_no) + ")");
   }
   if (lines.empty()) throw InputError(name, 0, "no expression: the file has no instruction lines");
 
   // Pass two: resolve argument names.
   for (Line& l : lines) {
     for (int k = 0; k < op_arity(l.op); ++k) {
-      auto it = ids.find(l.arg_names[k]);
-      if (it == ids.end()) throw InputError(name, l.line_no, "undefined id " + quoted(l.arg_names[k]));
-      l.args[k] = it->second;
+      const std::uint32_t idx = ids.find(l.arg_names[k], lines);
+      if (idx == IdTable::kEmpty) throw InputError(name, l.line_no, "undefined id " + quoted(l.arg_names[k]));
+      l.args[k] = idx;
     }
   }
 

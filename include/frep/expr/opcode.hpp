@@ -73,10 +73,12 @@ inline constexpr std::uint8_t kArity[kOpCount] = {
 // A table lookup: this sits on the hot path of tape simplification.
 constexpr int op_arity(Op op) { return detail::kArity[static_cast<std::uint8_t>(op)]; }
 
-// Parses an opcode's text name; nullopt if unknown.
+// Parses an opcode's text name; nullopt if unknown. Compares lengths first: it runs once per
+// line of every expression file.
 constexpr std::optional<Op> op_from_name(std::string_view s) {
 #define FREP_X(name, id, text, arity) \
-  if (s == text) return Op::name;
+  if (s.size() == sizeof(text) - 1 && s[0] == text[0] && s == text) return Op::name;
+  if (s.empty()) return std::nullopt;
   FREP_OPCODES(FREP_X)
 #undef FREP_X
   return std::nullopt;
