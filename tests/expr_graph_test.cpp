@@ -15,7 +15,8 @@ TEST(Graph, HashConsingMakesOneNodePerSubexpression) {
   auto a = square(x - 1) + square(y);
   auto b = square(x - 1) + square(y);
   EXPECT_EQ(a.id(), b.id());
-  EXPECT_EQ((x + y).id(), (y + x).id());  // commutative ops are canonical
+  EXPECT_EQ((x + y).id(), (y + x).id());  // add and mul are canonical
+  EXPECT_EQ((x * y).id(), (y * x).id());
   const std::size_t before = g.size();
   auto c = square(x - 1.0f);
   (void)c;
@@ -55,7 +56,7 @@ TEST(Graph, MillionNodeMinChainCompilesAndEvaluates) {
   EXPECT_GE(t.size(), 1000000u);
   PointEvaluator ev;
   EXPECT_FLOAT_EQ(ev.eval(t, 0, 0, 0), -999.999f);
-  EXPECT_LT(g.memory_bytes(), 1000000u * 48);
+  EXPECT_LE(g.memory_bytes(), g.size() * 48) << "documented: 24 to 32 bytes per node, plus vector slack";
 }
 
 }  // namespace

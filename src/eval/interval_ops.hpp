@@ -151,7 +151,8 @@ inline Interval op(Op op, Interval a, Interval b, Choice* choice) {
         if (std::isnan(q0) || std::isnan(q1) || std::isnan(q2) || std::isnan(q3)) return Interval::unknown();
         return {std::min(std::min(q0, q1), std::min(q2, q3)), std::max(std::max(q0, q1), std::max(q2, q3))};
       }
-      if (has_zero(a)) return Interval::unknown();  // 0 / 0
+      if (has_zero(a)) return Interval::unknown();                // 0 / 0
+      if (!finite(a) && !finite(b)) return Interval::unknown();  // inf / inf
       return {-kInf, kInf};
     }
     case Op::Atan2:

@@ -130,9 +130,10 @@ NodeId Graph::binary(Op op, NodeId a, NodeId b) {
     default:
       break;
   }
-  // Canonical order for commutative ops, so a+b and b+a are one node. For min and max this
-  // may change which of two equal-valued zeros (+0 / -0) wins a tie; values are unaffected.
-  if (op_is_commutative(op) && a > b) std::swap(a, b);
+  // Canonical order for add and mul, which are commutative bit for bit, so a+b and b+a are one
+  // node. Not for min and max: they return their second argument on a tie, and -0 == +0 is a
+  // tie whose sign a later division can see.
+  if ((op == Op::Add || op == Op::Mul) && a > b) std::swap(a, b);
   return intern({op, a, b, 0.0f});
 }
 

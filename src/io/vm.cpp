@@ -164,35 +164,38 @@ Model parse_vm(std::string_view text, const std::string& name) {
     }
   }
 
-  // Pass three: build nodes in dependency order with an explicit stack (no recursion, so a
-  // million-deep chain is fine), detecting cycles.
+  // Pass three: build nodes in dependency order by depth-first search with an explicit stack
+  // (no recursion, so a million-deep chain is fine). A node is "on the path" from when it is
+  // pushed until it is built; meeting such a node again is a cycle.
   Model model;
   Graph& g = *model.graph;
-  constexpr NodeId kUnvisited = kNoNode, kInProgress = kNoNode - 1;
+  constexpr NodeId kUnvisited = kNoNode, kOnPath = kNoNode - 1;
   std::vector<NodeId> built(lines.size(), kUnvisited);
-  std::vector<std::uint32_t> stack;
+  struct Frame {
+    std::uint32_t line;
+    int next_arg;
+  };
+  std::vector<Frame> stack;
   for (std::uint32_t start = 0; start < lines.size(); ++start) {
     if (built[start] != kUnvisited) continue;
-    stack.push_back(start);
-    built[start] = kInProgress;
+    stack.push_back({start, 0});
+    built[start] = kOnPath;
     while (!stack.empty()) {
-      const std::uint32_t cur = stack.back();
-      const Line& l = lines[cur];
-      bool ready = true;
-      for (int k = op_arity(l.op) - 1; k >= 0; --k) {
-        const std::uint32_t arg = l.args[k];
-        if (built[arg] == kInProgress)
+      Frame& f = stack.back();
+      const Line& l = lines[f.line];
+      const int ar = op_arity(l.op);
+      if (f.next_arg < ar) {
+        const std::uint32_t arg = l.args[f.next_arg++];
+        if (built[arg] == kOnPath)
           throw InputError(name, l.line_no, "cycle: " + quoted(l.id) + " depends on itself through " + quoted(lines[arg].id));
         if (built[arg] == kUnvisited) {
-          built[arg] = kInProgress;
-          stack.push_back(arg);
-          ready = false;
+          built[arg] = kOnPath;
+          stack.push_back({arg, 0});  // invalidates f
         }
+        continue;
       }
-      if (!ready) continue;
+      built[f.line] = g.make(l.op, ar > 0 ? built[l.args[0]] : kNoNode, ar > 1 ? built[l.args[1]] : kNoNode, l.value);
       stack.pop_back();
-      const int ar = op_arity(l.op);
-      built[cur] = g.make(l.op, ar > 0 ? built[l.args[0]] : kNoNode, ar > 1 ? built[l.args[1]] : kNoNode, l.value);
     }
   }
   model.root = built.back();

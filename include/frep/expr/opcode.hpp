@@ -84,10 +84,6 @@ constexpr std::optional<Op> op_from_name(std::string_view s) {
   return std::nullopt;
 }
 
-constexpr bool op_is_commutative(Op op) {
-  return op == Op::Add || op == Op::Mul || op == Op::Min || op == Op::Max;
-}
-
 // Ops whose interval evaluation may pick one side, which makes them prunable.
 constexpr bool op_is_choice(Op op) {
   return op == Op::Min || op == Op::Max || op == Op::And || op == Op::Or;

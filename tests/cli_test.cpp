@@ -1,0 +1,336 @@
+// End-to-end tests of the `frep` command-line tool: run the built binary, capture stdout, stderr
+// and the exit code, and compare with the library.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "frep/expr/expr.hpp"
+#include "frep/io/vm.hpp"
+#include "frep/render/render2d.hpp"
+#include "test_util.hpp"
+
+namespace frep {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("frep_cli_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    // A small 2D model of our own, so most tests do not depend on the shared data.
+    Graph g;
+    auto x = g.x(), y = g.y();
+    circle_ = path("circle.vm");
+    save_vm(circle_, g, (sqrt(square(x - 0.2f) + square(y + 0.1f)) - 0.6f).id());
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  RunResult run(const std::string& args, const std::string& stdin_text = "") {
+    const std::string out = path("stdout.txt"), err = path("stderr.txt"), in = path("stdin.txt");
+    {
+      std::ofstream f(in, std::ios::binary);
+      f << stdin_text;
+    }
+    const std::string cmd = quote(FREP_CLI_PATH) + " " + args + " <" + quote(in) + " >" + quote(out) + " 2>" + quote(err);
+    const int status = std::system(cmd.c_str());
+    RunResult r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
+  }
+
+  void write(const std::string& name, const std::string& text) {
+    std::ofstream f(path(name), std::ios::binary);
+    f << text;
+  }
+
+  fs::path dir_;
+  std::string circle_;
+};
+
+std::vector<std::string> lines_of(const std::string& s) {
+  std::vector<std::string> v;
+  std::istringstream in(s);
+  for (std::string l; std::getline(in, l);) v.push_back(l);
+  return v;
+}
+
+std::string fmt9(float v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(v));
+  return buf;
+}
+
+TEST_F(Cli, HelpForEverySubcommandExitsZero) {
+  for (const std::string sub : {"", "info ", "eval ", "render "}) {
+    const RunResult r = run(sub + "--help");
+    EXPECT_EQ(r.code, 0) << sub << r.err;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
+  }
+  EXPECT_EQ(run("--version").code, 0);
+  const RunResult none = run("");
+  EXPECT_NE(none.code, 0) << "a subcommand is required";
+  const RunResult bogus = run("frobnicate");
+  EXPECT_NE(bogus.code, 0);
+  EXPECT_FALSE(bogus.err.empty());
+}
+
+TEST_F(Cli, InfoOnProspero) {
+  FREP_REQUIRE_DATA("prospero.vm");
+  const std::string file = test::data_file("prospero.vm");
+  const RunResult r = run("info " + quote(file));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Model m = read_vm(file);
+  const Tape t = Tape::compile(*m.graph, m.root);
+  const std::size_t nodes = reachable_nodes(*m.graph, m.root).size();
+  EXPECT_NE(r.out.find("nodes: " + std::to_string(nodes)), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("variables: x y\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("tape: " + std::to_string(t.code().size()) + " instructions"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("max"), std::string::npos);
+  EXPECT_TRUE(r.err.empty()) << r.err;
+}
+
+TEST_F(Cli, InfoOnA3DModelListsZ) {
+  Graph g;
+  save_vm(path("ball.vm"), g, (square(g.x()) + square(g.y()) + square(g.z()) - 1.0f).id());
+  const RunResult r = run("info " + quote(path("ball.vm")));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("variables: x y z"), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, EvalMatchesThePointEvaluator) {
+  const std::string pts =
+      "# points\n"
+      "0 0 0\n"
+      "0.5, -0.25, 0\n"
+      "  1.5\t2.5  \n"  // two numbers: z = 0
+      "\n"
+      "-1e-3,7e2\n"
+      "0.2 -0.1 3   # a comment\n"
+      "1e30 -1e30 0\r\n";
+  write("pts.txt", pts);
+  const RunResult r = run("eval " + quote(circle_) + " --points " + quote(path("pts.txt")));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Model m = read_vm(circle_);
+  const Tape t = Tape::compile(*m.graph, m.root);
+  PointEvaluator pe;
+  const float P[][3] = {{0, 0, 0}, {0.5f, -0.25f, 0}, {1.5f, 2.5f, 0}, {-1e-3f, 7e2f, 0}, {0.2f, -0.1f, 3}, {1e30f, -1e30f, 0}};
+  const std::vector<std::string> got = lines_of(r.out);
+  ASSERT_EQ(got.size(), 6u) << r.out;
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(got[i], fmt9(pe.eval(t, P[i][0], P[i][1], P[i][2]))) << "line " << i;
+
+  // Gradients: value and d/dx d/dy d/dz.
+  const RunResult g = run("eval " + quote(circle_) + " --points " + quote(path("pts.txt")) + " --grad");
+  ASSERT_EQ(g.code, 0) << g.err;
+  GradEvaluator ge;
+  const std::vector<std::string> gl = lines_of(g.out);
+  ASSERT_EQ(gl.size(), 6u);
+  for (int i = 0; i < 6; ++i) {
+    const Grad gr = ge.eval(t, P[i][0], P[i][1], P[i][2]);
+    EXPECT_EQ(gl[i], fmt9(gr.v) + " " + fmt9(gr.dx) + " " + fmt9(gr.dy) + " " + fmt9(gr.dz)) << "line " << i;
+  }
+
+  // Points from stdin.
+  const RunResult s = run("eval " + quote(circle_) + " --points -", "0 0 0\n0.2 -0.1\n");
+  ASSERT_EQ(s.code, 0) << s.err;
+  EXPECT_EQ(s.out, fmt9(pe.eval(t, 0, 0, 0)) + "\n" + fmt9(pe.eval(t, 0.2f, -0.1f, 0)) + "\n");
+}
+
+TEST_F(Cli, EvalManyPointsOnProspero) {
+  FREP_REQUIRE_DATA("prospero.vm");
+  std::mt19937_64 rng(71);
+  std::string pts;
+  std::vector<std::array<float, 2>> P;
+  for (int i = 0; i < 1000; ++i) {  // more than one SIMD chunk
+    const float x = std::uniform_real_distribution<float>(-1, 1)(rng), y = std::uniform_real_distribution<float>(-1, 1)(rng);
+    P.push_back({x, y});
+    pts += fmt9(x) + " " + fmt9(y) + "\n";
+  }
+  write("pts.txt", pts);
+  const RunResult r = run("eval " + quote(test::data_file("prospero.vm")) + " -p " + quote(path("pts.txt")));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Model m = read_vm(test::data_file("prospero.vm"));
+  const Tape t = Tape::compile(*m.graph, m.root);
+  PointEvaluator pe;
+  const std::vector<std::string> got = lines_of(r.out);
+  ASSERT_EQ(got.size(), P.size());
+  for (std::size_t i = 0; i < P.size(); ++i) ASSERT_EQ(got[i], fmt9(pe.eval(t, P[i][0], P[i][1], 0))) << i;
+}
+
+TEST_F(Cli, EvalErrors) {
+  // Missing expression file.
+  write("pts.txt", "0 0 0\n");
+  RunResult r = run("eval " + quote(path("nope.vm")) + " --points " + quote(path("pts.txt")));
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("nope.vm"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  // Bad points file: the message names the file and line.
+  write("bad.txt", "0 0 0\n# fine\n1 2 3\n1 zz 3\n");
+  r = run("eval " + quote(circle_) + " --points " + quote(path("bad.txt")));
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("bad.txt:4"), std::string::npos) << r.err;
+  write("bad2.txt", "0 0 0\n1\n");
+  r = run("eval " + quote(circle_) + " --points " + quote(path("bad2.txt")));
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("bad2.txt:2"), std::string::npos) << r.err;
+  write("bad3.txt", "1 2 3 4\n");
+  r = run("eval " + quote(circle_) + " --points " + quote(path("bad3.txt")));
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("bad3.txt:1"), std::string::npos) << r.err;
+  // Missing points file, missing --points.
+  r = run("eval " + quote(circle_) + " --points " + quote(path("nope.txt")));
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("nope.txt"), std::string::npos) << r.err;
+  r = run("eval " + quote(circle_));
+  EXPECT_NE(r.code, 0);
+  EXPECT_FALSE(r.err.empty());
+  // A bad expression file: file and line.
+  write("broken.vm", "a var-x\nb nosuchop a\n");
+  r = run("eval " + quote(path("broken.vm")) + " --points " + quote(path("pts.txt")));
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("broken.vm:2"), std::string::npos) << r.err;
+  r = run("info " + quote(path("broken.vm")));
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("broken.vm:2"), std::string::npos) << r.err;
+}
+
+// Reads a binary PGM written by frep.
+bool read_pgm(const std::string& file, Image& img) {
+  const std::string bytes = slurp(file);
+  int w = 0, h = 0, maxv = 0, off = 0;
+  if (std::sscanf(bytes.c_str(), "P5 %d %d %d%n", &w, &h, &maxv, &off) != 3 || maxv != 255) return false;
+  ++off;  // the single whitespace after maxval
+  if (bytes.size() != static_cast<std::size_t>(off) + static_cast<std::size_t>(w) * h) return false;
+  img.width = w, img.height = h;
+  img.pixels.assign(bytes.begin() + off, bytes.end());
+  return true;
+}
+
+TEST_F(Cli, RenderPngAndPgm) {
+  const std::string png = path("out.png"), pgm = path("out.pgm");
+  RunResult r = run("render " + quote(circle_) + " --size 64 -o " + quote(png));
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_TRUE(fs::exists(png));
+  const std::string bytes = slurp(png);
+  ASSERT_GT(bytes.size(), 24u);
+  EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  auto be32 = [&](std::size_t o) {
+    return (static_cast<unsigned char>(bytes[o]) << 24) | (static_cast<unsigned char>(bytes[o + 1]) << 16) |
+           (static_cast<unsigned char>(bytes[o + 2]) << 8) | static_cast<unsigned char>(bytes[o + 3]);
+  };
+  EXPECT_EQ(bytes.substr(12, 4), "IHDR");
+  EXPECT_EQ(be32(16), 64u);
+  EXPECT_EQ(be32(20), 64u);
+
+  r = run("render " + quote(circle_) + " -s 64 -q --output " + quote(pgm));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty()) << "--quiet";
+  Image img;
+  ASSERT_TRUE(read_pgm(pgm, img));
+  EXPECT_EQ(img.width, 64);
+  EXPECT_EQ(img.height, 64);
+  const Model m = read_vm(circle_);
+  RenderOptions o;
+  o.size = 64;
+  const Image ref = render2d_brute_force(Tape::compile(*m.graph, m.root), o);
+  EXPECT_EQ(img.pixels, ref.pixels);
+  int white = 0;
+  for (auto p : img.pixels) white += p == 255;
+  EXPECT_GT(white, 64 * 64 / 20) << "the circle should be visible";
+}
+
+TEST_F(Cli, RenderProsperoPgmMatchesBruteForce) {
+  FREP_REQUIRE_DATA("prospero.vm");
+  const std::string pgm = path("p.pgm");
+  const RunResult r = run("render " + quote(test::data_file("prospero.vm")) + " --size 97 -j 2 -o " + quote(pgm));
+  ASSERT_EQ(r.code, 0) << r.err;
+  Image img;
+  ASSERT_TRUE(read_pgm(pgm, img));
+  const Model m = read_vm(test::data_file("prospero.vm"));
+  RenderOptions o;
+  o.size = 97;
+  EXPECT_EQ(img.pixels, render2d_brute_force(Tape::compile(*m.graph, m.root), o).pixels);
+}
+
+TEST_F(Cli, RenderErrorsLeaveNoOutputFile) {
+  // Bad extension.
+  RunResult r = run("render " + quote(circle_) + " --size 16 -o " + quote(path("out.jpg")));
+  EXPECT_NE(r.code, 0);
+  EXPECT_FALSE(r.err.empty());
+  EXPECT_FALSE(fs::exists(path("out.jpg")));
+  // --size 0 and a negative size.
+  r = run("render " + quote(circle_) + " --size 0 -o " + quote(path("zero.png")));
+  EXPECT_NE(r.code, 0);
+  EXPECT_FALSE(r.err.empty());
+  EXPECT_FALSE(fs::exists(path("zero.png")));
+  r = run("render " + quote(circle_) + " --size -5 -o " + quote(path("neg.png")));
+  EXPECT_NE(r.code, 0);
+  EXPECT_FALSE(fs::exists(path("neg.png")));
+  // Missing input.
+  r = run("render " + quote(path("nope.vm")) + " --size 16 -o " + quote(path("x.png")));
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("nope.vm"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("x.png")));
+  // Output in a directory that does not exist: fails cleanly, nothing is created.
+  const std::string deep = path("no/such/dir/out.png");
+  r = run("render " + quote(circle_) + " --size 16 -o " + quote(deep));
+  EXPECT_NE(r.code, 0);
+  EXPECT_FALSE(r.err.empty());
+  EXPECT_FALSE(fs::exists(deep));
+  EXPECT_FALSE(fs::exists(path("no")));
+  // Output is a directory.
+  fs::create_directories(path("adir.png"));
+  r = run("render " + quote(circle_) + " --size 16 -o " + quote(path("adir.png")));
+  EXPECT_NE(r.code, 0);
+  EXPECT_TRUE(fs::is_directory(path("adir.png")));
+  // Missing -o.
+  r = run("render " + quote(circle_) + " --size 16");
+  EXPECT_NE(r.code, 0);
+  // No temporary files left in the output directory.
+  for (const auto& e : fs::directory_iterator(dir_)) {
+    const std::string n = e.path().filename().string();
+    EXPECT_EQ(n.find(".tmp"), std::string::npos) << "leftover " << n;
+  }
+}
+
+TEST_F(Cli, FailedRenderKeepsAnExistingOutputIntact) {
+  const std::string png = path("keep.png");
+  write("keep.png", "original");
+  // An unknown input fails before writing; the old file is untouched.
+  const RunResult r = run("render " + quote(path("nope.vm")) + " --size 16 -o " + quote(png));
+  EXPECT_NE(r.code, 0);
+  EXPECT_EQ(slurp(png), "original");
+}
+
+}  // namespace
+}  // namespace frep
