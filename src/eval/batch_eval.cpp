@@ -8,6 +8,8 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
+#include "eval/simd_ops-inl.h"
+
 #include <cstdlib>
 #include <cstring>
 
@@ -47,24 +49,6 @@ HWY_INLINE void Binary(const RegInstr& ins, const float* regs, float* o, std::si
     const float* HWY_RESTRICT b = regs + ins.b * stride;
     for (std::size_t i = 0; i < count; i += N) hn::Store(f(a, hn::Load(d, b + i)), d, o + i);
   }
-}
-
-// min and max with frep's semantics: NaN if either argument is NaN, else p < q ? p : q (q on
-// ties). x86's minps/maxps compute exactly p < q ? p : q, returning q when either is NaN, so
-// only a NaN in p needs fixing; elsewhere the comparison is spelled out.
-HWY_INLINE V MinNaN(V p, V q) {
-#if HWY_ARCH_X86 && HWY_TARGET != HWY_EMU128
-  return hn::IfThenElse(hn::IsNaN(p), p, hn::Min(p, q));
-#else
-  return hn::IfThenElse(hn::Or(p < q, hn::IsNaN(p)), p, q);
-#endif
-}
-HWY_INLINE V MaxNaN(V p, V q) {
-#if HWY_ARCH_X86 && HWY_TARGET != HWY_EMU128
-  return hn::IfThenElse(hn::IsNaN(p), p, hn::Max(p, q));
-#else
-  return hn::IfThenElse(hn::Or(p > q, hn::IsNaN(p)), p, q);
-#endif
 }
 
 // Ops without a SIMD form here (libm functions, fmod): scalar, with the reference semantics.

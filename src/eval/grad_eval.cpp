@@ -8,6 +8,8 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
+#include "eval/simd_ops-inl.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -100,8 +102,6 @@ HWY_INLINE G LoadArg(D d, const RegInstr& ins, bool first, const float* R, std::
 // p * dv, except that a zero partial gives 0 even where dv is infinite or NaN.
 HWY_INLINE V Scaled(V p, V dv) { return hn::IfThenElseZero(p != hn::Zero(hn::DFromV<V>()), hn::Mul(p, dv)); }
 
-HWY_INLINE V MinNaN(V p, V q) { return hn::IfThenElse(hn::Or(p < q, hn::IsNaN(p)), p, q); }
-HWY_INLINE V MaxNaN(V p, V q) { return hn::IfThenElse(hn::Or(p > q, hn::IsNaN(p)), p, q); }
 
 // Returns false for ops it does not vectorize.
 bool GradOp(const RegInstr& ins, float* R, std::size_t chunk, std::size_t count) {
