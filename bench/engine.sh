@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Engine benchmark: Prospero at 1024x1024 (1 and 2 threads) against brute force measured in the
+# same run, plus evaluator throughput. Needs ../shared/data/vm and a Release build in build/.
+#   bash bench/engine.sh            # builds bench_eval if needed, prints the table and ratios
+set -euo pipefail
+cd "$(dirname "$0")/.."
+if [ ! -f ../shared/data/vm/prospero.vm ]; then
+  echo "bench/engine.sh: ../shared/data/vm/prospero.vm not found; nothing to measure" >&2
+  exit 1
+fi
+cmake --build build --target bench_eval >/dev/null
+out=$(./build/bench/bench_eval --benchmark_min_time=2 --benchmark_repetitions=3 \
+      --benchmark_report_aggregates_only=true 2>&1)
+echo "$out"
+median() { echo "$out" | awk -v n="$1" '$1 == n"_median" {print $2}'; }
+t1=$(median "BM_ProsperoRender/1024/1/real_time")
+t2=$(median "BM_ProsperoRender/1024/2/real_time")
+bf=$(median "BM_ProsperoBruteForce/1024/real_time")
+echo
+echo "Prospero 1024x1024, median of 3 (ms per frame, after warm-up, file loading excluded):"
+awk -v t1="$t1" -v t2="$t2" -v bf="$bf" 'BEGIN {
+  printf "  1 thread:  %.2f ms   (%.0fx faster than brute force)\n", t1, bf / t1;
+  printf "  2 threads: %.2f ms   (%.0fx faster than brute force, %.2fx over 1 thread)\n", t2, bf / t2, t1 / t2;
+  printf "  brute force (every pixel, SIMD, 1 thread): %.1f ms\n", bf;
+}'
