@@ -334,3 +334,22 @@ TEST_F(Cli, FailedRenderKeepsAnExistingOutputIntact) {
 
 }  // namespace
 }  // namespace frep
+
+namespace frep {
+namespace {
+
+// Exit codes as the README documents them: 0 success, 1 bad input, 2 bad command line.
+TEST_F(Cli, ExitCodesDistinguishInputErrorsFromUsageErrors) {
+  EXPECT_EQ(run("").code, 2);                                   // no subcommand
+  EXPECT_EQ(run("frobnicate").code, 2);                         // unknown subcommand
+  EXPECT_EQ(run("render " + quote(circle_)).code, 2);           // missing -o
+  EXPECT_EQ(run("render " + quote(circle_) + " -o x.png --size 0").code, 2);
+  EXPECT_EQ(run("info " + quote(path("missing.vm"))).code, 1);  // input error
+  const RunResult bad_ext = run("render " + quote(circle_) + " -o " + quote(path("x.jpg")));
+  EXPECT_EQ(bad_ext.code, 1);
+  EXPECT_NE(bad_ext.err.find("x.jpg"), std::string::npos) << bad_ext.err;
+  EXPECT_EQ(run("--version").code, 0);
+}
+
+}  // namespace
+}  // namespace frep

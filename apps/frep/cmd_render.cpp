@@ -22,7 +22,7 @@ void register_render(CLI::App& app) {
   cmd->add_option("-o,--output", a->output, "Output image (.png or .pgm)")->required();
   cmd->add_option("--size,-s", a->opt.size, "Image width and height in pixels")
       ->capture_default_str()
-      ->check(CLI::Range(1, 65536));
+      ->check(CLI::Range(1, 16384));
   cmd->add_option("--threads,-j", a->opt.threads, "Worker threads (0 = all cores)")
       ->capture_default_str()
       ->check(CLI::Range(0, 1024));
@@ -33,6 +33,7 @@ void register_render(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--quiet,-q", a->quiet, "Do not print where the image went");
   cmd->callback([a] {
+    check_image_path(a->output);
     const Model m = load_expression(a->file);
     const Tape tape = Tape::compile(*m.graph, m.root);
     const auto t0 = std::chrono::steady_clock::now();

@@ -2,6 +2,7 @@
 
 #include <stb/stb_image_write.h>
 
+#include <filesystem>
 #include <string>
 
 #include "frep/error.hpp"
@@ -19,6 +20,15 @@ void append(void* context, void* data, int size) {
   static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
 }
 }  // namespace
+
+void check_image_path(const std::string& path) {
+  if (!ends_with(path, ".png") && !ends_with(path, ".pgm"))
+    throw InputError(path, 0, "unknown image format: use a .png or .pgm file name");
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
+    throw InputError(path, 0, "cannot write: directory " + parent.string() + " does not exist");
+}
 
 void save_image(const std::string& path, const Image& image) {
   FREP_ASSERT(image.pixels.size() == static_cast<std::size_t>(image.width) * image.height, "image size");

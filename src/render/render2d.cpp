@@ -22,8 +22,8 @@ std::vector<float> linspace(int n) {
 }
 
 void check_options(const RenderOptions& o) {
-  if (o.size < 1 || o.size > 65536)
-    throw InputError("", 0, "image size must be between 1 and 65536, got " + std::to_string(o.size));
+  if (o.size < 1 || o.size > 16384)
+    throw InputError("", 0, "image size must be between 1 and 16384, got " + std::to_string(o.size));
   if (o.tiles.empty()) throw InputError("", 0, "at least one tile level is needed");
   for (std::size_t i = 0; i < o.tiles.size(); ++i) {
     if (o.tiles[i] < 1) throw InputError("", 0, "tile sizes must be positive");

@@ -19,4 +19,8 @@ struct Image {
 // an unknown extension or a write failure.
 void save_image(const std::string& path, const Image& image);
 
+// Throws InputError unless `path` has a supported extension and its directory exists: lets a
+// command fail before long work rather than after it.
+void check_image_path(const std::string& path);
+
 }  // namespace frep

@@ -11,7 +11,7 @@
 namespace frep {
 
 struct RenderOptions {
-  int size = 1024;                            // image width and height in pixels
+  int size = 1024;                            // image width and height in pixels (1 to 16384)
   int threads = 0;                            // worker threads; 0 = all hardware threads
   float z = 0.0f;                             // the z of the slice for 3D expressions
   std::vector<int> tiles = {256, 64, 16};     // tile edge per subdivision level, largest first;
