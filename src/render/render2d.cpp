@@ -9,6 +9,7 @@
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/eval/interval_batch.hpp"
+#include "frep/util/thread_pool.hpp"
 
 namespace frep {
 namespace {
@@ -42,9 +43,8 @@ struct Renderer2D::Worker {
 
 Renderer2D::Renderer2D(RenderOptions options) : options_(std::move(options)) {
   check_options(options_);
-  int n = options_.threads;
-  if (n <= 0) n = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  for (int i = 0; i < n; ++i) workers_.push_back(std::make_unique<Worker>());
+  pool_ = std::make_unique<ThreadPool>(options_.threads);
+  for (int i = 0; i < pool_->size(); ++i) workers_.push_back(std::make_unique<Worker>());
 }
 
 Renderer2D::~Renderer2D() = default;
@@ -162,7 +162,8 @@ Image Renderer2D::render(const Tape& tape) {
     std::vector<Tape>& store = frontier_tapes_[level];
     if (store.size() < frontier.size() * groups * kLanes) store.resize(frontier.size() * groups * kLanes);
     std::vector<std::vector<Item>> parts(frontier.size());
-    parallel_for(static_cast<int>(frontier.size()), [&](Worker& w, int i) {
+    pool_->parallel_for(static_cast<int>(frontier.size()), [&](int wi, int i) {
+      Worker& w = *workers_[wi];
       split(w, *frontier[i].tape, level, frontier[i].rect,
             [&](int g) { return &store[(static_cast<std::size_t>(i) * groups + g) * kLanes]; },
             [&](const Item& child) { parts[i].push_back(child); });
@@ -171,29 +172,9 @@ Image Renderer2D::render(const Tape& tape) {
     for (auto& p : parts) frontier.insert(frontier.end(), p.begin(), p.end());
     parent_step = tiles[level];
   }
-  parallel_for(static_cast<int>(frontier.size()),
-               [&](Worker& w, int i) { descend(descend, w, frontier[i], bfs_levels - 1); });
+  pool_->parallel_for(static_cast<int>(frontier.size()),
+                      [&](int wi, int i) { descend(descend, *workers_[wi], frontier[i], bfs_levels - 1); });
   return img;
-}
-
-template <class F>
-void Renderer2D::parallel_for(int items, const F& body) {
-  std::atomic<int> next_item{0};
-  std::exception_ptr error;
-  std::atomic<bool> failed{false};
-  auto run = [&](Worker& w) {
-    try {
-      for (int i; (i = next_item.fetch_add(1, std::memory_order_relaxed)) < items && !failed.load();) body(w, i);
-    } catch (...) {
-      if (!failed.exchange(true)) error = std::current_exception();
-    }
-  };
-  const std::size_t nthreads = std::min<std::size_t>(workers_.size(), static_cast<std::size_t>(items));
-  std::vector<std::thread> pool;
-  for (std::size_t t = 1; t < nthreads; ++t) pool.emplace_back(run, std::ref(*workers_[t]));
-  run(*workers_[0]);
-  for (auto& th : pool) th.join();
-  if (error) std::rethrow_exception(error);
 }
 
 Image render2d(const Tape& tape, const RenderOptions& options) {

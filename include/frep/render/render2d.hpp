@@ -10,6 +10,8 @@
 
 namespace frep {
 
+class ThreadPool;
+
 struct RenderOptions {
   int size = 1024;                            // image width and height in pixels (1 to 16384)
   int threads = 0;                            // worker threads; 0 = all hardware threads
@@ -33,10 +35,9 @@ class Renderer2D {
 
  private:
   struct Worker;
-  template <class F>
-  void parallel_for(int items, const F& body);  // body(worker, item), items handed out dynamically
 
   RenderOptions options_;
+  std::unique_ptr<ThreadPool> pool_;
   std::vector<std::unique_ptr<Worker>> workers_;
   std::vector<std::vector<Tape>> frontier_tapes_;  // simplified tapes of the breadth-first levels
 };
