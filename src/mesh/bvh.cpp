@@ -47,9 +47,9 @@ struct Builder {
   // Builds node `ni` over order[begin, end); iterative over an explicit stack to bound depth.
   void build() {
     struct Task {
-      std::uint32_t node, begin, end;
+      std::uint32_t node, begin, end, depth;
     };
-    std::vector<Task> stack{{0, 0, static_cast<std::uint32_t>(order.size())}};
+    std::vector<Task> stack{{0, 0, static_cast<std::uint32_t>(order.size()), 0}};
     nodes.push_back({});
     const int bins = std::max(2, opt.bins);
     std::vector<Vec3> blo(bins), bhi(bins);
@@ -105,7 +105,15 @@ struct Builder {
         }
       }
       std::uint32_t mid;
-      if (best_axis < 0) {
+      if (t.depth >= 40) {
+        // Deep enough: object median on the widest centroid axis keeps the depth logarithmic
+        // (queries use fixed-size stacks).
+        const Vec3 ext = ch - cl;
+        const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+        mid = t.begin + count / 2;
+        std::nth_element(order.begin() + t.begin, order.begin() + mid, order.begin() + t.end,
+                         [&](std::uint32_t x, std::uint32_t y) { return centroid[x][axis] < centroid[y][axis]; });
+      } else if (best_axis < 0) {
         mid = t.begin + count / 2;  // all centroids coincide: split by index
       } else {
         const double scale = bins / (ch[best_axis] - cl[best_axis]);
@@ -120,8 +128,8 @@ struct Builder {
       nodes[t.node].count = 0;
       nodes.push_back({});
       nodes.push_back({});
-      stack.push_back({left + 1, mid, t.end});
-      stack.push_back({left, t.begin, mid});
+      stack.push_back({left + 1, mid, t.end, t.depth + 1});
+      stack.push_back({left, t.begin, mid, t.depth + 1});
     }
   }
 };
