@@ -115,7 +115,10 @@ MeshDistance::MeshDistance(const TriMesh& mesh, const MeshDistanceOptions& optio
   tri_.resize(nt);
   for (std::size_t i = 0; i < nt; ++i) {
     const std::uint32_t t = tri_id_[i];
-    tri_[i] = {m.corner(t, 0), m.corner(t, 1), m.corner(t, 2)};
+    const Vec3 a = m.corner(t, 0), b = m.corner(t, 1), c = m.corner(t, 2);
+    const Vec3 n = cross(b - a, c - a);
+    const double l = length(n);
+    tri_[i] = {a, b, c, l > 0 ? n / l : Vec3{}};
   }
 
   // Pseudonormals: unit face normals, edge normals as the sum over the edge's triangles, vertex
@@ -211,6 +214,8 @@ ClosestPoint MeshDistance::closest_point(const Vec3& p) const {
       for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
         Feature f;
         const Tri& t = tri_[i];
+        const double h = dot(p - t.a, t.n);
+        if (h * h >= best) continue;  // the plane alone is already farther
         const Vec3 q = closest_on_triangle(p, t.a, t.b, t.c, f);
         const double d2 = length2(p - q);
         if (d2 < best) best = d2, best_i = i, best_q = q, best_f = f;

@@ -20,7 +20,7 @@ enum class SignMethod {
 struct MeshDistanceOptions {
   double weld_tolerance = 0;  // vertices are welded (exactly, or within this) for pseudonormals
   double winding_beta = 2.5;  // far-field (dipole) approximation for nodes farther than beta x radius
-  int max_leaf_size = 4;      // BVH leaf size
+  int max_leaf_size = 8;      // BVH leaf size
 };
 
 // Which part of a triangle the closest point lies on.
@@ -59,6 +59,7 @@ class MeshDistance {
  private:
   struct Tri {
     Vec3 a, b, c;
+    Vec3 n;  // unit normal (zero if degenerate): |(p - a) . n| is a cheap lower bound
   };
   struct WindingNode {
     Vec3 area_normal;  // sum of the triangles' area vectors (half the cross products)
