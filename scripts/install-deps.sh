@@ -3,7 +3,9 @@
 set -euo pipefail
 pkgs=(build-essential cmake ninja-build pkg-config
       libhwy-dev libcli11-dev libfmt-dev libstb-dev
-      libgtest-dev libgmock-dev libbenchmark-dev)
+      libgtest-dev libgmock-dev libbenchmark-dev
+      libcgal-dev)  # CGAL: only the baseline of bench/bench_mesh_distance (header-only)
+# Optional, for the fuzz build (-DFREP_BUILD_FUZZ=ON, see fuzz/CMakeLists.txt): clang-14 libclang-rt-14-dev
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -9,52 +9,9 @@
 #include "frep/eval/evaluators.hpp"
 #include "frep/io/atomic_file.hpp"
 #include "frep/io/load.hpp"
+#include "frep/io/points.hpp"
 
 namespace frep::cli {
-namespace {
-
-struct Points {
-  std::vector<float> x, y, z;
-};
-
-// One point per line: `x y [z]`, separated by spaces, tabs or commas; `#` starts a comment.
-Points parse_points(const std::string& text, const std::string& name) {
-  Points p;
-  std::size_t pos = 0;
-  std::uint64_t line_no = 0;
-  while (pos < text.size()) {
-    std::size_t eol = text.find('\n', pos);
-    if (eol == std::string::npos) eol = text.size();
-    std::string line = text.substr(pos, eol - pos);
-    pos = eol + 1;
-    ++line_no;
-    if (auto h = line.find('#'); h != std::string::npos) line.resize(h);
-    for (char& c : line)
-      if (c == ',' || c == '\t' || c == '\r') c = ' ';
-    float v[4];
-    int n = 0;
-    const char* s = line.c_str();
-    while (true) {
-      while (*s == ' ') ++s;
-      if (!*s) break;
-      if (n == 3) throw InputError(name, line_no, "expected 2 or 3 numbers per line, got more");
-      char* end = nullptr;
-      v[n] = std::strtof(s, &end);
-      if (end == s || (*end != ' ' && *end != '\0'))
-        throw InputError(name, line_no, "bad number '" + std::string(s, std::strcspn(s, " ")) + "'");
-      ++n;
-      s = end;
-    }
-    if (n == 0) continue;
-    if (n == 1) throw InputError(name, line_no, "expected 2 or 3 numbers per line, got 1");
-    p.x.push_back(v[0]);
-    p.y.push_back(v[1]);
-    p.z.push_back(n == 3 ? v[2] : 0.0f);
-  }
-  return p;
-}
-
-}  // namespace
 
 void register_eval(CLI::App& app) {
   auto* cmd = app.add_subcommand("eval", "Evaluate an expression at points, one value per line (%.9g)");
@@ -70,13 +27,7 @@ void register_eval(CLI::App& app) {
   cmd->add_flag("--grad,-g", a->grad, "Also print d/dx d/dy d/dz after each value");
   cmd->callback([a] {
     const Model m = load_expression(a->file);
-    std::string text;
-    if (a->points == "-") {
-      text.assign(std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>());
-    } else {
-      text = read_file(a->points);
-    }
-    const Points p = parse_points(text, a->points == "-" ? "<stdin>" : a->points);
+    const PointColumns<float> p = parse_points_f32(read_points_text(a->points), points_source_name(a->points));
     const Tape tape = Tape::compile(*m.graph, m.root);
     const std::size_t n = p.x.size();
     std::string out;

@@ -1,0 +1,48 @@
+#include <cstdio>
+#include <cstdlib>
+
+#include "commands.hpp"
+#include "frep/mesh/mesh_io.hpp"
+#include "frep/mesh/validate.hpp"
+
+namespace frep::cli {
+
+void register_check(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "check", "Validate a mesh (STL, OBJ, PLY, OFF): exit 0 only for a closed, manifold, consistently "
+               "oriented solid without self-intersections; 4 otherwise");
+  struct Args {
+    std::string file;
+    bool json = false, no_intersections = false;
+    double weld_tolerance = 0;
+    std::size_t examples = 5;
+    unsigned threads = 0;
+  };
+  auto a = std::make_shared<Args>();
+  cmd->add_option("MESH", a->file, "Mesh file")->required();
+  cmd->add_flag("--json", a->json, "Print the report as JSON");
+  cmd->add_option("--weld-tolerance", a->weld_tolerance,
+                  "Merge vertices closer than this before checking (default 0: identical positions only)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--examples", a->examples, "Example locations listed per defect (default 5)");
+  cmd->add_flag("--no-self-intersections", a->no_intersections, "Skip the self-intersection test");
+  cmd->add_option("--threads", a->threads, "Worker threads (default: all cores)");
+  cmd->callback([a] {
+    const TriMesh mesh = read_mesh(a->file);
+    ValidationOptions opt;
+    opt.weld_tolerance = a->weld_tolerance;
+    opt.self_intersections = !a->no_intersections;
+    opt.max_examples = a->examples;
+    opt.threads = a->threads;
+    const ValidationReport report = validate_mesh(mesh, opt);
+    const std::string out = a->json ? report.to_json() : report.to_text();
+    std::fwrite(out.data(), 1, out.size(), stdout);
+    std::fflush(stdout);
+    if (!report.is_solid()) {
+      if (a->json) std::fprintf(stderr, "frep: %s: %s\n", a->file.c_str(), report.summary().c_str());
+      std::exit(4);
+    }
+  });
+}
+
+}  // namespace frep::cli

@@ -1,0 +1,3 @@
+#include "fuzz_mesh_reader.hpp"
+
+FREP_MESH_FUZZER(frep::read_ply)

@@ -1,0 +1,162 @@
+// A bounding volume hierarchy over a mesh's triangles (binned surface-area heuristic). Boxes are
+// stored in single precision rounded outward, so they always contain their double triangles.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "frep/mesh/mesh.hpp"
+
+namespace frep {
+
+struct BvhOptions {
+  int max_leaf_size = 4;  // a node with at most this many triangles becomes a leaf
+  int bins = 16;          // SAH candidate split planes per axis and node
+};
+
+class TriangleBvh {
+ public:
+  struct Node {
+    float lo[3], hi[3];
+    // Inner node (count == 0): children are nodes `index` and `index + 1`.
+    // Leaf (count > 0): triangles order()[index .. index + count).
+    std::uint32_t index;
+    std::uint32_t count;
+    bool leaf() const { return count != 0; }
+  };
+
+  TriangleBvh() = default;
+  // Builds over every triangle of `mesh`. An empty mesh gives an empty hierarchy.
+  explicit TriangleBvh(const TriMesh& mesh, const BvhOptions& options = {});
+
+  const std::vector<Node>& nodes() const { return nodes_; }
+  // Triangle indices of the mesh in leaf order.
+  const std::vector<std::uint32_t>& order() const { return order_; }
+  bool empty() const { return nodes_.empty(); }
+
+  // Calls f(a, b) once for every unordered pair of distinct triangles (a != b) whose boxes
+  // overlap (closed boxes: touching counts). Single-threaded; `f` may be any callable.
+  template <class F>
+  void for_each_overlapping_pair(F&& f) const;
+
+  // The same pairs, split into independent jobs: f is called with (a, b) from `threads` threads,
+  // each with its own thread index as a third argument.
+  template <class F>
+  void for_each_overlapping_pair_parallel(unsigned threads, F&& f) const;
+
+ private:
+  std::vector<Node> nodes_;
+  std::vector<std::uint32_t> order_;
+  std::vector<float> tri_box_;  // per triangle (leaf order): lo xyz, hi xyz
+
+  static bool overlap(const float* alo, const float* ahi, const float* blo, const float* bhi) {
+    return alo[0] <= bhi[0] && blo[0] <= ahi[0] && alo[1] <= bhi[1] && blo[1] <= ahi[1] && alo[2] <= bhi[2] &&
+           blo[2] <= ahi[2];
+  }
+  template <class F>
+  void pairs_below(std::uint32_t a, std::uint32_t b, F& f) const;
+  template <class F>
+  void pairs_within(std::uint32_t n, F& f) const;
+};
+
+template <class F>
+void TriangleBvh::pairs_below(std::uint32_t a, std::uint32_t b, F& f) const {
+  const Node& A = nodes_[a];
+  const Node& B = nodes_[b];
+  if (!overlap(A.lo, A.hi, B.lo, B.hi)) return;
+  if (A.leaf() && B.leaf()) {
+    for (std::uint32_t i = A.index; i < A.index + A.count; ++i)
+      for (std::uint32_t j = B.index; j < B.index + B.count; ++j)
+        if (overlap(&tri_box_[6 * i], &tri_box_[6 * i + 3], &tri_box_[6 * j], &tri_box_[6 * j + 3]))
+          f(order_[i], order_[j]);
+    return;
+  }
+  // Descend the side that is not a leaf, or the bigger one.
+  auto extent = [](const Node& n) { return (n.hi[0] - n.lo[0]) + (n.hi[1] - n.lo[1]) + (n.hi[2] - n.lo[2]); };
+  const bool split_a = !A.leaf() && (B.leaf() || extent(A) >= extent(B));
+  if (split_a) {
+    pairs_below(A.index, b, f);
+    pairs_below(A.index + 1, b, f);
+  } else {
+    pairs_below(a, B.index, f);
+    pairs_below(a, B.index + 1, f);
+  }
+}
+
+template <class F>
+void TriangleBvh::pairs_within(std::uint32_t n, F& f) const {
+  const Node& N = nodes_[n];
+  if (N.leaf()) {
+    for (std::uint32_t i = N.index; i < N.index + N.count; ++i)
+      for (std::uint32_t j = i + 1; j < N.index + N.count; ++j)
+        if (overlap(&tri_box_[6 * i], &tri_box_[6 * i + 3], &tri_box_[6 * j], &tri_box_[6 * j + 3]))
+          f(order_[i], order_[j]);
+    return;
+  }
+  pairs_within(N.index, f);
+  pairs_within(N.index + 1, f);
+  pairs_below(N.index, N.index + 1, f);
+}
+
+template <class F>
+void TriangleBvh::for_each_overlapping_pair(F&& f) const {
+  if (!nodes_.empty()) pairs_within(0, f);
+}
+
+}  // namespace frep
+
+#include <thread>
+
+namespace frep {
+
+template <class F>
+void TriangleBvh::for_each_overlapping_pair_parallel(unsigned threads, F&& f) const {
+  if (nodes_.empty()) return;
+  // Jobs: the "within" and "between" sub-problems near the root, found by expanding the top of
+  // the recursion breadth-first until there are enough of them; handed out round-robin.
+  struct Job {
+    std::uint32_t a, b;
+    bool within;
+  };
+  std::vector<Job> jobs{{0, 0, true}};
+  for (std::size_t round = 0; round < 8 && jobs.size() < 64 * std::size_t(threads); ++round) {
+    std::vector<Job> next;
+    for (const Job& j : jobs) {
+      const Node& A = nodes_[j.a];
+      if (j.within && !A.leaf()) {
+        next.push_back({A.index, A.index, true});
+        next.push_back({A.index + 1, A.index + 1, true});
+        next.push_back({A.index, A.index + 1, false});
+      } else if (!j.within) {
+        const Node& B = nodes_[j.b];
+        if (!overlap(A.lo, A.hi, B.lo, B.hi)) continue;
+        if (!A.leaf()) {
+          next.push_back({A.index, j.b, false});
+          next.push_back({A.index + 1, j.b, false});
+        } else if (!B.leaf()) {
+          next.push_back({j.a, B.index, false});
+          next.push_back({j.a, B.index + 1, false});
+        } else {
+          next.push_back(j);
+        }
+      } else {
+        next.push_back(j);
+      }
+    }
+    jobs.swap(next);
+  }
+  if (threads < 1) threads = 1;
+  auto run = [&](unsigned t) {
+    auto g = [&](std::uint32_t a, std::uint32_t b) { f(a, b, t); };
+    for (std::size_t k = t; k < jobs.size(); k += threads) {
+      if (jobs[k].within) pairs_within(jobs[k].a, g);
+      else pairs_below(jobs[k].a, jobs[k].b, g);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(run, t);
+  run(0);
+  for (auto& th : pool) th.join();
+}
+
+}  // namespace frep

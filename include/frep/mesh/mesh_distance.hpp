@@ -1,0 +1,86 @@
+// The signed-distance oracle: exact (double precision) distance to a triangle mesh through a BVH,
+// with the sign from the generalized winding number (robust to holes and self-intersections) or
+// from the angle-weighted pseudonormal of the closest feature (exact on clean closed solids).
+// Negative inside, like every field in frep.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "frep/mesh/bvh.hpp"
+#include "frep/mesh/mesh.hpp"
+
+namespace frep {
+
+enum class SignMethod {
+  WindingNumber,  // inside where the generalized winding number exceeds 1/2
+  Pseudonormal,   // side of the closest feature's angle-weighted pseudonormal (Baerentzen-Aanaes)
+};
+
+struct MeshDistanceOptions {
+  double weld_tolerance = 0;  // vertices are welded (exactly, or within this) for pseudonormals
+  double winding_beta = 2.5;  // far-field (dipole) approximation for nodes farther than beta x radius
+  int max_leaf_size = 8;      // BVH leaf size
+};
+
+// Which part of a triangle the closest point lies on.
+enum class Feature : std::uint8_t { Face, Edge0, Edge1, Edge2, Vertex0, Vertex1, Vertex2 };
+
+struct ClosestPoint {
+  double distance = 0;  // Euclidean distance to the mesh
+  Vec3 point;           // closest point on the mesh
+  std::uint32_t triangle = 0;  // index of the triangle it lies on (the mesh's triangle order)
+  Feature feature = Feature::Face;  // edge k joins corners k and k+1
+};
+
+class MeshDistance {
+ public:
+  // Builds the hierarchy and the normals. Throws InputError for a mesh without triangles.
+  explicit MeshDistance(const TriMesh& mesh, const MeshDistanceOptions& options = {});
+
+  ClosestPoint closest_point(const Vec3& p) const;
+  double unsigned_distance(const Vec3& p) const { return closest_point(p).distance; }
+  // Generalized winding number: 1 inside a closed outward surface, 0 outside, fractional near holes.
+  double winding_number(const Vec3& p) const;
+  // Exact winding number (sum of all solid angles, no approximation), O(triangles): for tests.
+  double winding_number_exact(const Vec3& p) const;
+  // +1 outside, -1 inside, 0 on the surface, from the pseudonormal of the closest feature.
+  int pseudonormal_sign(const Vec3& p, const ClosestPoint& c) const;
+  double signed_distance(const Vec3& p, SignMethod method = SignMethod::WindingNumber) const;
+
+  // Batch versions over `threads` threads (0: all cores); results do not depend on the count.
+  void signed_distance(const double* x, const double* y, const double* z, double* out, std::size_t n,
+                       SignMethod method = SignMethod::WindingNumber, unsigned threads = 0) const;
+  void unsigned_distance(const double* x, const double* y, const double* z, double* out, std::size_t n,
+                         unsigned threads = 0) const;
+
+  std::size_t num_triangles() const { return tri_.size(); }
+
+ private:
+  struct Tri {
+    Vec3 a, b, c;
+    Vec3 n;  // unit normal (zero if degenerate): |(p - a) . n| is a cheap lower bound
+  };
+  struct WindingNode {
+    Vec3 area_normal;  // sum of the triangles' area vectors (half the cross products)
+    Vec3 center;       // area-weighted centroid
+    double radius;     // distance from center to the farthest corner below the node
+  };
+  std::vector<TriangleBvh::Node> nodes_;
+  std::vector<Tri> tri_;                     // in BVH leaf order
+  std::vector<std::uint32_t> tri_id_;        // leaf order -> mesh triangle index
+  std::vector<WindingNode> wind_;            // per BVH node
+  std::vector<Vec3> face_normal_;            // per mesh triangle, unit (zero if degenerate)
+  std::vector<Vec3> edge_normal_;            // per mesh triangle and edge (3 per triangle)
+  std::vector<Vec3> vertex_normal_;          // per welded vertex
+  std::vector<Triangle> welded_;             // per mesh triangle, welded vertex indices
+  MeshDistanceOptions options_;
+
+  double solid_angle_leaf(std::uint32_t node, const Vec3& p) const;
+};
+
+// One-shot: signed distances at points (x, y, z columns), by the winding number or pseudonormals.
+std::vector<double> signed_distance(const TriMesh& mesh, const std::vector<double>& x, const std::vector<double>& y,
+                                    const std::vector<double>& z, SignMethod method = SignMethod::WindingNumber);
+
+}  // namespace frep

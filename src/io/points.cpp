@@ -1,0 +1,71 @@
+#include "frep/io/points.hpp"
+
+#include <charconv>
+#include <iostream>
+#include <iterator>
+
+#include "frep/error.hpp"
+#include "frep/io/atomic_file.hpp"
+
+namespace frep {
+namespace {
+
+template <class T>
+PointColumns<T> parse(std::string_view text, const std::string& name) {
+  PointColumns<T> p;
+  std::size_t pos = 0;
+  std::uint64_t line_no = 0;
+  auto sep = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == ','; };
+  while (pos < text.size()) {
+    std::size_t eol = text.find('\n', pos);
+    if (eol == std::string_view::npos) eol = text.size();
+    std::string_view line = text.substr(pos, eol - pos);
+    pos = eol + 1;
+    ++line_no;
+    if (auto h = line.find('#'); h != std::string_view::npos) line = line.substr(0, h);
+    T v[3];
+    int n = 0;
+    std::size_t i = 0;
+    while (true) {
+      while (i < line.size() && sep(line[i])) ++i;
+      if (i >= line.size()) break;
+      std::size_t j = i;
+      while (j < line.size() && !sep(line[j])) ++j;
+      std::string_view tok = line.substr(i, j - i);
+      if (n == 3) throw InputError(name, line_no, "expected 2 or 3 numbers per line, got more");
+      const char* b = tok.data();
+      const char* e = b + tok.size();
+      if (b != e && *b == '+') ++b;
+      auto r = std::from_chars(b, e, v[n]);
+      if (b == e || r.ptr != e || (r.ec != std::errc() && r.ec != std::errc::result_out_of_range))
+        throw InputError(name, line_no, "bad number '" + std::string(tok.substr(0, 40)) + "'");
+      if (r.ec == std::errc::result_out_of_range) {
+        // Overflow becomes +-inf and underflow 0, as strtof/strtod would give.
+        const std::string copy(tok);
+        v[n] = static_cast<T>(std::strtod(copy.c_str(), nullptr));
+      }
+      ++n;
+      i = j;
+    }
+    if (n == 0) continue;
+    if (n == 1) throw InputError(name, line_no, "expected 2 or 3 numbers per line, got 1");
+    p.x.push_back(v[0]);
+    p.y.push_back(v[1]);
+    p.z.push_back(n == 3 ? v[2] : T(0));
+  }
+  return p;
+}
+
+}  // namespace
+
+PointColumns<float> parse_points_f32(std::string_view text, const std::string& name) { return parse<float>(text, name); }
+PointColumns<double> parse_points_f64(std::string_view text, const std::string& name) { return parse<double>(text, name); }
+
+std::string read_points_text(const std::string& path) {
+  if (path == "-") return std::string(std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>());
+  return read_file(path);
+}
+
+std::string points_source_name(const std::string& path) { return path == "-" ? "<stdin>" : path; }
+
+}  // namespace frep

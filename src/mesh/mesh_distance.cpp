@@ -1,0 +1,330 @@
+#include "frep/mesh/mesh_distance.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+
+#include "frep/error.hpp"
+#include "frep/mesh/weld.hpp"
+
+namespace frep {
+namespace {
+
+constexpr double kFourPi = 4 * 3.14159265358979323846;
+
+// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5), with the
+// feature it lies on. Degenerate triangles fall back to their edges.
+Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double l2 = dot(ab, ab);
+  double t = l2 > 0 ? dot(p - a, ab) / l2 : 0;
+  t = std::clamp(t, 0.0, 1.0);
+  return a + ab * t;
+}
+
+inline Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, Feature& f) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return f = Feature::Vertex0, a;
+  const Vec3 bp = p - b;
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return f = Feature::Vertex1, b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const double v = d1 / (d1 - d3);
+    return f = Feature::Edge0, a + ab * v;
+  }
+  const Vec3 cp = p - c;
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return f = Feature::Vertex2, c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const double w = d2 / (d2 - d6);
+    return f = Feature::Edge2, a + ac * w;
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return f = Feature::Edge1, b + (c - b) * w;
+  }
+  const double sum = va + vb + vc;
+  if (!(sum > 0)) {
+    // Degenerate (collinear corners): the closest point is on one of the edges.
+    const Vec3 q0 = closest_on_segment(p, a, b), q1 = closest_on_segment(p, b, c), q2 = closest_on_segment(p, c, a);
+    const double e0 = length2(p - q0), e1 = length2(p - q1), e2 = length2(p - q2);
+    if (e0 <= e1 && e0 <= e2) return f = Feature::Edge0, q0;
+    if (e1 <= e2) return f = Feature::Edge1, q1;
+    return f = Feature::Edge2, q2;
+  }
+  const double denom = 1.0 / sum;
+  const double v = vb * denom, w = vc * denom;
+  return f = Feature::Face, a + ab * v + ac * w;
+}
+
+inline double box_distance2(const TriangleBvh::Node& n, const Vec3& p) {
+  double d2 = 0;
+  for (int c = 0; c < 3; ++c) {
+    const double lo = n.lo[c], hi = n.hi[c];
+    const double d = p[c] < lo ? lo - p[c] : (p[c] > hi ? p[c] - hi : 0.0);
+    d2 += d * d;
+  }
+  return d2;
+}
+
+// Signed solid angle of triangle abc seen from p (Van Oosterom and Strackee), positive when p
+// is on the side opposite to the right-hand normal.
+inline double solid_angle(const Vec3& p, const Vec3& a0, const Vec3& b0, const Vec3& c0) {
+  const Vec3 a = a0 - p, b = b0 - p, c = c0 - p;
+  const double la = length(a), lb = length(b), lc = length(c);
+  const double num = dot(a, cross(b, c));
+  const double den = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb;
+  return 2 * std::atan2(num, den);
+}
+
+template <class F>
+void parallel_for(std::size_t n, unsigned threads, F&& f) {
+  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+  threads = static_cast<unsigned>(std::min<std::size_t>(threads, (n + 1023) / 1024));
+  if (threads <= 1) {
+    f(std::size_t(0), n);
+    return;
+  }
+  std::vector<std::thread> pool;
+  const std::size_t chunk = (n + threads - 1) / threads;
+  for (unsigned t = 1; t < threads; ++t) {
+    const std::size_t b = t * chunk, e = std::min(n, b + chunk);
+    if (b < e) pool.emplace_back([&f, b, e] { f(b, e); });
+  }
+  f(std::size_t(0), std::min(n, chunk));
+  for (auto& th : pool) th.join();
+}
+
+}  // namespace
+
+MeshDistance::MeshDistance(const TriMesh& mesh, const MeshDistanceOptions& options) : options_(options) {
+  if (mesh.triangles.empty()) throw InputError(mesh.name, 0, "mesh has no triangles");
+  const WeldResult w = weld(mesh, {options.weld_tolerance});
+  const TriMesh& m = w.mesh;
+  const std::size_t nt = m.triangles.size();
+  welded_ = m.triangles;
+  BvhOptions bo;
+  bo.max_leaf_size = options.max_leaf_size;
+  const TriangleBvh bvh(m, bo);
+  nodes_ = bvh.nodes();
+  tri_id_ = bvh.order();
+  tri_.resize(nt);
+  for (std::size_t i = 0; i < nt; ++i) {
+    const std::uint32_t t = tri_id_[i];
+    const Vec3 a = m.corner(t, 0), b = m.corner(t, 1), c = m.corner(t, 2);
+    const Vec3 n = cross(b - a, c - a);
+    const double l = length(n);
+    tri_[i] = {a, b, c, l > 0 ? n / l : Vec3{}};
+  }
+
+  // Pseudonormals: unit face normals, edge normals as the sum over the edge's triangles, vertex
+  // normals weighted by the corner angles.
+  face_normal_.resize(nt);
+  vertex_normal_.assign(m.vertices.size(), Vec3{});
+  for (std::size_t t = 0; t < nt; ++t) {
+    const Vec3 a = m.corner(t, 0), b = m.corner(t, 1), c = m.corner(t, 2);
+    const Vec3 n = cross(b - a, c - a);
+    const double l = length(n);
+    face_normal_[t] = l > 0 ? n / l : Vec3{};
+    if (!(l > 0)) continue;
+    const Vec3 corner[3] = {a, b, c};
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 e1 = corner[(k + 1) % 3] - corner[k], e2 = corner[(k + 2) % 3] - corner[k];
+      const double angle = std::atan2(length(cross(e1, e2)), dot(e1, e2));
+      vertex_normal_[m.triangles[t][k]] += face_normal_[t] * angle;
+    }
+  }
+  {
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;  // (edge key, triangle * 3 + k)
+    edges.reserve(3 * nt);
+    for (std::uint32_t t = 0; t < nt; ++t)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t a = m.triangles[t][k], b = m.triangles[t][(k + 1) % 3];
+        edges.push_back({(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b), 3 * t + k});
+      }
+    std::sort(edges.begin(), edges.end());
+    edge_normal_.assign(3 * nt, Vec3{});
+    for (std::size_t i = 0; i < edges.size();) {
+      std::size_t j = i;
+      Vec3 sum;
+      while (j < edges.size() && edges[j].first == edges[i].first) sum += face_normal_[edges[j++].second / 3];
+      for (std::size_t k = i; k < j; ++k) edge_normal_[edges[k].second] = sum;
+      i = j;
+    }
+  }
+
+  // Winding-number data per node, children before parents (children have larger indices).
+  wind_.assign(nodes_.size(), WindingNode{});
+  std::vector<double> node_area(nodes_.size(), 0);
+  for (std::size_t ni = nodes_.size(); ni-- > 0;) {
+    const TriangleBvh::Node& n = nodes_[ni];
+    WindingNode& wn = wind_[ni];
+    Vec3 weighted;
+    double area = 0;
+    if (n.leaf()) {
+      for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
+        const Tri& t = tri_[i];
+        const Vec3 an = cross(t.b - t.a, t.c - t.a) * 0.5;
+        const double a = length(an);
+        wn.area_normal += an;
+        weighted += (t.a + t.b + t.c) * (a / 3.0);
+        area += a;
+      }
+    } else {
+      for (std::uint32_t ch : {n.index, n.index + 1}) {
+        wn.area_normal += wind_[ch].area_normal;
+        weighted += wind_[ch].center * node_area[ch];
+        area += node_area[ch];
+      }
+    }
+    node_area[ni] = area;
+    wn.center = area > 0 ? weighted / area : Vec3{(n.lo[0] + n.hi[0]) * 0.5, (n.lo[1] + n.hi[1]) * 0.5,
+                                                  (n.lo[2] + n.hi[2]) * 0.5};
+    // Radius: farthest box corner bounds the farthest triangle corner.
+    double r2 = 0;
+    for (int k = 0; k < 8; ++k) {
+      const Vec3 corner{(k & 1) ? n.hi[0] : n.lo[0], (k & 2) ? n.hi[1] : n.lo[1], (k & 4) ? n.hi[2] : n.lo[2]};
+      r2 = std::max(r2, length2(corner - wn.center));
+    }
+    wn.radius = std::sqrt(r2);
+  }
+}
+
+ClosestPoint MeshDistance::closest_point(const Vec3& p) const {
+  double best = INFINITY;
+  std::uint32_t best_i = 0;
+  Vec3 best_q;
+  Feature best_f = Feature::Face;
+  struct Entry {
+    std::uint32_t node;
+    double d2;
+  };
+  Entry stack[256];  // the BVH depth is at most ~72 (see bvh.cpp)
+  int sp = 0;
+  stack[sp++] = {0, box_distance2(nodes_[0], p)};
+  while (sp > 0) {
+    const Entry e = stack[--sp];
+    if (e.d2 >= best) continue;
+    const TriangleBvh::Node& n = nodes_[e.node];
+    if (n.leaf()) {
+      for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
+        Feature f;
+        const Tri& t = tri_[i];
+        const double h = dot(p - t.a, t.n);
+        if (h * h >= best) continue;  // the plane alone is already farther
+        const Vec3 q = closest_on_triangle(p, t.a, t.b, t.c, f);
+        const double d2 = length2(p - q);
+        if (d2 < best) best = d2, best_i = i, best_q = q, best_f = f;
+      }
+      continue;
+    }
+    const double dl = box_distance2(nodes_[n.index], p), dr = box_distance2(nodes_[n.index + 1], p);
+    // Nearer child on top of the stack, visited first; the stack depth is bounded by the tree depth.
+    if (dl <= dr) {
+      if (dr < best && sp < 255) stack[sp++] = {n.index + 1, dr};
+      if (dl < best && sp < 255) stack[sp++] = {n.index, dl};
+    } else {
+      if (dl < best && sp < 255) stack[sp++] = {n.index, dl};
+      if (dr < best && sp < 255) stack[sp++] = {n.index + 1, dr};
+    }
+    FREP_ASSERT(sp < 255, "BVH deeper than the closest-point stack");
+  }
+  return {std::sqrt(best), best_q, tri_id_[best_i], best_f};
+}
+
+double MeshDistance::solid_angle_leaf(std::uint32_t node, const Vec3& p) const {
+  const TriangleBvh::Node& n = nodes_[node];
+  double s = 0;
+  for (std::uint32_t i = n.index; i < n.index + n.count; ++i) s += solid_angle(p, tri_[i].a, tri_[i].b, tri_[i].c);
+  return s;
+}
+
+double MeshDistance::winding_number(const Vec3& p) const {
+  double sum = 0;
+  std::uint32_t stack[256];
+  int sp = 0;
+  stack[sp++] = 0;
+  const double beta2 = options_.winding_beta * options_.winding_beta;
+  while (sp > 0) {
+    const std::uint32_t ni = stack[--sp];
+    const WindingNode& w = wind_[ni];
+    const Vec3 d = w.center - p;
+    const double dist2 = length2(d);
+    if (dist2 > beta2 * w.radius * w.radius) {
+      // Far field: the node's triangles act as one dipole of moment area_normal at center.
+      sum += dot(d, w.area_normal) / (dist2 * std::sqrt(dist2));
+      continue;
+    }
+    const TriangleBvh::Node& n = nodes_[ni];
+    if (n.leaf()) {
+      sum += solid_angle_leaf(ni, p);
+    } else {
+      FREP_ASSERT(sp < 254, "BVH deeper than the winding-number stack");
+      stack[sp++] = n.index;
+      stack[sp++] = n.index + 1;
+    }
+  }
+  return sum / kFourPi;
+}
+
+double MeshDistance::winding_number_exact(const Vec3& p) const {
+  double s = 0;
+  for (const Tri& t : tri_) s += solid_angle(p, t.a, t.b, t.c);
+  return s / kFourPi;
+}
+
+int MeshDistance::pseudonormal_sign(const Vec3& p, const ClosestPoint& c) const {
+  const Triangle& t = welded_[c.triangle];
+  Vec3 n;
+  switch (c.feature) {
+    case Feature::Face: n = face_normal_[c.triangle]; break;
+    case Feature::Edge0: n = edge_normal_[3 * c.triangle]; break;
+    case Feature::Edge1: n = edge_normal_[3 * c.triangle + 1]; break;
+    case Feature::Edge2: n = edge_normal_[3 * c.triangle + 2]; break;
+    case Feature::Vertex0: n = vertex_normal_[t[0]]; break;
+    case Feature::Vertex1: n = vertex_normal_[t[1]]; break;
+    case Feature::Vertex2: n = vertex_normal_[t[2]]; break;
+  }
+  const double s = dot(p - c.point, n);
+  return s > 0 ? 1 : (s < 0 ? -1 : 0);
+}
+
+double MeshDistance::signed_distance(const Vec3& p, SignMethod method) const {
+  const ClosestPoint c = closest_point(p);
+  if (c.distance == 0) return 0;
+  if (method == SignMethod::Pseudonormal) {
+    const int s = pseudonormal_sign(p, c);
+    if (s != 0) return s * c.distance;
+    // Degenerate feature (zero normal): fall back on the winding number.
+  }
+  return winding_number(p) > 0.5 ? -c.distance : c.distance;
+}
+
+void MeshDistance::signed_distance(const double* x, const double* y, const double* z, double* out, std::size_t n,
+                                   SignMethod method, unsigned threads) const {
+  parallel_for(n, threads, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) out[i] = signed_distance(Vec3{x[i], y[i], z[i]}, method);
+  });
+}
+
+void MeshDistance::unsigned_distance(const double* x, const double* y, const double* z, double* out, std::size_t n,
+                                     unsigned threads) const {
+  parallel_for(n, threads, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) out[i] = closest_point(Vec3{x[i], y[i], z[i]}).distance;
+  });
+}
+
+std::vector<double> signed_distance(const TriMesh& mesh, const std::vector<double>& x, const std::vector<double>& y,
+                                    const std::vector<double>& z, SignMethod method) {
+  FREP_ASSERT(x.size() == y.size() && y.size() == z.size(), "point columns differ in length");
+  const MeshDistance md(mesh);
+  std::vector<double> out(x.size());
+  md.signed_distance(x.data(), y.data(), z.data(), out.data(), x.size(), method);
+  return out;
+}
+
+}  // namespace frep

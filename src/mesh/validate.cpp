@@ -1,0 +1,440 @@
+#include "frep/mesh/validate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+#include <numeric>
+#include <thread>
+
+#include "frep/mesh/bvh.hpp"
+#include "frep/mesh/weld.hpp"
+#include "predicates.hpp"
+#include "tri_tri.hpp"
+
+namespace frep {
+namespace {
+
+constexpr std::uint32_t kNone = 0xffffffffu;
+
+struct KindInfo {
+  const char* key;
+  const char* what;
+  bool fatal;
+};
+const KindInfo kKinds[kDefectKinds] = {
+    {"open_edges", "open (boundary) edges", true},
+    {"non_manifold_edges", "non-manifold edges (more than two triangles)", true},
+    {"non_manifold_vertices", "non-manifold (pinched) vertices", true},
+    {"inconsistent_orientation", "inconsistently oriented edges", true},
+    {"inward_orientation", "inward orientation (negative volume)", true},
+    {"self_intersections", "crossing triangle pairs (self-intersections)", true},
+    {"overlaps", "coplanar overlapping or folded triangle pairs", true},
+    {"duplicate_triangles", "duplicate triangles", true},
+    {"zero_area_triangles", "zero-area triangles (collinear corners)", false},
+    {"collapsed_triangles", "collapsed triangles (repeated vertex, ignored)", false},
+    {"needle_triangles", "needle triangles", false},
+    {"touching_pairs", "touching triangle pairs (boundaries meet, interiors do not)", false},
+    {"unused_vertices", "unused vertices", false},
+    {"duplicate_vertices", "duplicate vertices (same position, merged)", false},
+};
+
+class UnionFind {
+ public:
+  explicit UnionFind(std::size_t n) : p_(n) { std::iota(p_.begin(), p_.end(), 0u); }
+  std::uint32_t find(std::uint32_t i) {
+    while (p_[i] != i) i = p_[i] = p_[p_[i]];
+    return i;
+  }
+  void unite(std::uint32_t a, std::uint32_t b) {
+    a = find(a), b = find(b);
+    if (a != b) p_[std::max(a, b)] = std::min(a, b);
+  }
+
+ private:
+  std::vector<std::uint32_t> p_;
+};
+
+struct Collector {
+  ValidationReport& r;
+  const TriMesh& m;  // welded; triangle indices equal the file's
+  const std::vector<std::uint32_t>& original_of_welded;
+  std::size_t max_examples;
+
+  Defect& d(DefectKind k) { return r.defects[static_cast<int>(k)]; }
+  DefectLocation at_triangle(std::uint32_t t) const {
+    DefectLocation l;
+    l.triangle = t;
+    l.face = m.face_source[t];
+    l.line = m.face_line[t];
+    l.point = (m.corner(t, 0) + m.corner(t, 1) + m.corner(t, 2)) / 3.0;
+    return l;
+  }
+  void add(DefectKind k, const DefectLocation& l) {
+    Defect& x = d(k);
+    ++x.count;
+    if (x.examples.size() < max_examples) x.examples.push_back(l);
+  }
+};
+
+}  // namespace
+
+const char* defect_key(DefectKind k) { return kKinds[static_cast<int>(k)].key; }
+const char* defect_description(DefectKind k) { return kKinds[static_cast<int>(k)].what; }
+bool defect_is_fatal(DefectKind k) { return kKinds[static_cast<int>(k)].fatal; }
+
+ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt) {
+  ValidationReport r;
+  r.file = raw.name;
+  r.file_vertices = raw.vertices.size();
+  r.triangles = raw.triangles.size();
+  for (int k = 0; k < kDefectKinds; ++k) r.defects.push_back({static_cast<DefectKind>(k), 0, {}});
+
+  const WeldResult w = weld(raw, {opt.weld_tolerance});
+  const TriMesh& m = w.mesh;
+  r.welded_vertices = m.vertices.size();
+  r.box = bounding_box(m);
+  Collector c{r, m, w.original_of_welded, opt.max_examples};
+  const std::size_t nt = m.triangles.size(), nv = m.vertices.size();
+
+  // Vertices: unused in the file, and duplicates merged by welding.
+  for (std::uint32_t v = 0; v < raw.vertices.size(); ++v) {
+    if (w.welded_of_original[v] == kNoVertex) {
+      DefectLocation l;
+      l.vertex = v;
+      l.point = raw.vertices[v];
+      c.add(DefectKind::UnusedVertices, l);
+    } else if (w.original_of_welded[w.welded_of_original[v]] != v) {
+      DefectLocation l;
+      l.vertex = v;
+      l.point = raw.vertices[v];
+      // STL repeats every corner by design; only indexed formats have "duplicate" vertices.
+      if (raw.indexed) c.add(DefectKind::DuplicateVertices, l);
+    }
+  }
+
+  // Triangles: collapsed (repeated index), zero area (exactly collinear), needles; area, volume.
+  std::vector<char> usable(nt, 1);  // non-collapsed: take part in topology
+  std::vector<char> flat(nt, 0);    // zero area: skipped by the intersection test
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    const Triangle& tr = m.triangles[t];
+    if (tr[0] == tr[1] || tr[1] == tr[2] || tr[0] == tr[2]) {
+      usable[t] = 0;
+      flat[t] = 1;
+      c.add(DefectKind::CollapsedTriangles, c.at_triangle(t));
+      continue;
+    }
+    const Vec3 a = m.vertices[tr[0]], b = m.vertices[tr[1]], cc = m.vertices[tr[2]];
+    const Vec3 n = cross(b - a, cc - a);
+    r.area += 0.5 * length(n);
+    r.volume += dot(a, cross(b, cc)) / 6.0;
+    const bool collinear = exact::orient2d(a.x, a.y, b.x, b.y, cc.x, cc.y) == 0 &&
+                           exact::orient2d(a.y, a.z, b.y, b.z, cc.y, cc.z) == 0 &&
+                           exact::orient2d(a.z, a.x, b.z, b.x, cc.z, cc.x) == 0;
+    if (collinear) {
+      flat[t] = 1;
+      c.add(DefectKind::ZeroAreaTriangles, c.at_triangle(t));
+      continue;
+    }
+    const double e2 = length2(b - a) + length2(cc - b) + length2(a - cc);
+    if (4 * std::sqrt(3.0) * 0.5 * length(n) < opt.needle_quality * e2) c.add(DefectKind::NeedleTriangles, c.at_triangle(t));
+  }
+
+  // Duplicate triangles: same vertex set as an earlier triangle.
+  {
+    std::vector<std::pair<Triangle, std::uint32_t>> keys;
+    keys.reserve(nt);
+    for (std::uint32_t t = 0; t < nt; ++t)
+      if (usable[t]) {
+        Triangle s = m.triangles[t];
+        std::sort(s.begin(), s.end());
+        keys.push_back({s, t});
+      }
+    std::sort(keys.begin(), keys.end());
+    for (std::size_t i = 1; i < keys.size(); ++i)
+      if (keys[i].first == keys[i - 1].first) {
+        DefectLocation l = c.at_triangle(keys[i].second);
+        std::size_t j = i;
+        while (j > 0 && keys[j - 1].first == keys[i].first) --j;
+        l.other = keys[j].second;
+        c.add(DefectKind::DuplicateTriangles, l);
+      }
+  }
+
+  // Edges: sort directed half-edges by their undirected key.
+  struct HalfEdge {
+    std::uint64_t key;  // min << 32 | max
+    std::uint32_t tri;
+    std::uint8_t forward;  // traversed min -> max
+    bool operator<(const HalfEdge& o) const { return key != o.key ? key < o.key : tri < o.tri; }
+  };
+  std::vector<HalfEdge> he;
+  he.reserve(3 * nt);
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    if (!usable[t]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = m.triangles[t][k], b = m.triangles[t][(k + 1) % 3];
+      he.push_back({(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b), t, std::uint8_t(a < b)});
+    }
+  }
+  std::sort(he.begin(), he.end());
+  UnionFind comp(nt);
+  // Manifold edges (exactly two triangles) link the fans around their endpoints.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> fan_links;  // (vertex << 32 | other end, tri)
+  std::vector<char> vertex_on_edge_defect(nv, 0);
+  for (std::size_t i = 0; i < he.size();) {
+    std::size_t j = i;
+    while (j < he.size() && he[j].key == he[i].key) ++j;
+    const std::size_t count = j - i;
+    ++r.edges;
+    const std::uint32_t a = std::uint32_t(he[i].key >> 32), b = std::uint32_t(he[i].key);
+    auto loc = [&] {
+      DefectLocation l = c.at_triangle(he[i].tri);
+      l.point = (m.vertices[a] + m.vertices[b]) * 0.5;
+      l.vertex = w.original_of_welded[a];
+      if (count > 1) l.other = he[i + 1].tri;
+      return l;
+    };
+    for (std::size_t k = i + 1; k < j; ++k) comp.unite(he[i].tri, he[k].tri);
+    if (count == 1) {
+      c.add(DefectKind::OpenEdges, loc());
+    } else if (count > 2) {
+      c.add(DefectKind::NonManifoldEdges, loc());
+    } else {
+      if (he[i].forward == he[i + 1].forward) c.add(DefectKind::InconsistentOrientation, loc());
+      for (std::size_t k = i; k < j; ++k) {
+        fan_links.push_back({(std::uint64_t(a) << 32) | b, he[k].tri});
+        fan_links.push_back({(std::uint64_t(b) << 32) | a, he[k].tri});
+      }
+    }
+    i = j;
+  }
+  for (std::uint32_t t = 0; t < nt; ++t)
+    if (usable[t] && comp.find(t) == t) ++r.components;
+
+  // Non-manifold vertices: the triangles around a vertex, joined through manifold edges at it,
+  // must form a single fan.
+  {
+    std::vector<std::uint32_t> first(nv + 1, 0);
+    for (std::uint32_t t = 0; t < nt; ++t)
+      if (usable[t])
+        for (std::uint32_t v : m.triangles[t]) ++first[v + 1];
+    for (std::size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
+    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1), incident(first[nv]);
+    for (std::uint32_t t = 0; t < nt; ++t)
+      if (usable[t])
+        for (std::uint32_t v : m.triangles[t]) incident[fill[v]++] = t;
+    std::sort(fan_links.begin(), fan_links.end());
+    // Local union-find over the incident triangles of one vertex at a time.
+    std::vector<std::uint32_t> parent;
+    std::size_t li = 0;
+    for (std::uint32_t v = 0; v < nv; ++v) {
+      const std::uint32_t b = first[v], e = first[v + 1];
+      if (e - b <= 1) {
+        while (li < fan_links.size() && (fan_links[li].first >> 32) == v) ++li;
+        continue;
+      }
+      parent.resize(e - b);
+      std::iota(parent.begin(), parent.end(), 0u);
+      auto slot = [&](std::uint32_t t) {
+        return static_cast<std::uint32_t>(std::lower_bound(incident.begin() + b, incident.begin() + e, t) -
+                                          (incident.begin() + b));
+      };
+      auto root = [&](std::uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+      };
+      std::size_t groups = e - b;
+      while (li < fan_links.size() && (fan_links[li].first >> 32) == v) {
+        std::size_t lj = li;
+        while (lj < fan_links.size() && fan_links[lj].first == fan_links[li].first) ++lj;
+        for (std::size_t k = li + 1; k < lj; ++k) {
+          const std::uint32_t x = root(slot(fan_links[li].second)), y = root(slot(fan_links[k].second));
+          if (x != y) parent[std::max(x, y)] = std::min(x, y), --groups;
+        }
+        li = lj;
+      }
+      if (groups > 1) {
+        DefectLocation l = c.at_triangle(incident[b]);
+        l.vertex = w.original_of_welded[v];
+        l.point = m.vertices[v];
+        c.add(DefectKind::NonManifoldVertices, l);
+      }
+    }
+  }
+
+  const bool closed_manifold = c.d(DefectKind::OpenEdges).count == 0 && c.d(DefectKind::NonManifoldEdges).count == 0 &&
+                               c.d(DefectKind::NonManifoldVertices).count == 0;
+  if (closed_manifold && c.d(DefectKind::InconsistentOrientation).count == 0) {
+    std::size_t used_vertices = 0;
+    std::vector<char> used(nv, 0);
+    std::size_t faces = 0;
+    for (std::uint32_t t = 0; t < nt; ++t)
+      if (usable[t]) {
+        ++faces;
+        for (std::uint32_t v : m.triangles[t]) used_vertices += !used[v], used[v] = 1;
+      }
+    const std::int64_t chi = std::int64_t(used_vertices) - std::int64_t(r.edges) + std::int64_t(faces);
+    r.genus = (2 * std::int64_t(r.components) - chi) / 2;
+    if (r.volume < 0) {
+      DefectLocation l;
+      l.point = r.box.center();
+      c.add(DefectKind::InwardOrientation, l);
+    }
+  }
+
+  // Self-intersections: candidate pairs from the BVH, classified exactly.
+  if (opt.self_intersections && nt > 1) {
+    r.self_intersections_checked = true;
+    const TriangleBvh bvh(m);
+    unsigned threads = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
+    struct Found {
+      std::uint32_t a, b;
+      Contact kind;
+    };
+    std::vector<std::vector<Found>> found(threads);
+    bvh.for_each_overlapping_pair_parallel(threads, [&](std::uint32_t a, std::uint32_t b, unsigned th) {
+      if (flat[a] || flat[b]) return;
+      const Triangle &ta = m.triangles[a], &tb = m.triangles[b];
+      const Vec3 p[3] = {m.vertices[ta[0]], m.vertices[ta[1]], m.vertices[ta[2]]};
+      const Vec3 q[3] = {m.vertices[tb[0]], m.vertices[tb[1]], m.vertices[tb[2]]};
+      const unsigned pi[3] = {ta[0], ta[1], ta[2]}, qi[3] = {tb[0], tb[1], tb[2]};
+      const Contact k = classify_triangle_pair(p, pi, q, qi);
+      if (k != Contact::None) found[th].push_back({std::min(a, b), std::max(a, b), k});
+    });
+    std::vector<Found> all;
+    for (auto& f : found) all.insert(all.end(), f.begin(), f.end());
+    std::sort(all.begin(), all.end(), [](const Found& x, const Found& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+    for (const Found& f : all) {
+      DefectLocation l = c.at_triangle(f.a);
+      l.other = f.b;
+      c.add(f.kind == Contact::Cross ? DefectKind::SelfIntersections
+                                      : (f.kind == Contact::Overlap ? DefectKind::Overlaps : DefectKind::TouchingPairs),
+            l);
+    }
+  }
+  return r;
+}
+
+bool ValidationReport::is_solid() const {
+  if (triangles == 0) return false;
+  for (const Defect& d : defects)
+    if (defect_is_fatal(d.kind) && d.count > 0) return false;
+  return true;
+}
+
+namespace {
+std::string fmt_g(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+std::string fmt_point(const Vec3& p) { return "(" + fmt_g(p.x) + ", " + fmt_g(p.y) + ", " + fmt_g(p.z) + ")"; }
+std::string json_escape(const std::string& s) {
+  std::string o;
+  for (char ch : s) {
+    const unsigned char u = static_cast<unsigned char>(ch);
+    if (ch == '"' || ch == '\\') o += '\\', o += ch;
+    else if (u < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", u);
+      o += buf;
+    } else o += ch;
+  }
+  return o;
+}
+std::string json_num(double v) { return std::isfinite(v) ? fmt_g(v) : "null"; }
+}  // namespace
+
+std::string ValidationReport::summary() const {
+  std::string s;
+  if (is_solid()) {
+    s = "valid solid: " + std::to_string(triangles) + " triangles, " + std::to_string(components) + " component" +
+        (components == 1 ? "" : "s");
+    if (genus) s += ", genus " + std::to_string(*genus);
+    s += ", volume " + fmt_g(volume);
+    if (!self_intersections_checked) s += " (self-intersections not checked)";
+    return s;
+  }
+  s = "not a solid:";
+  bool first = true;
+  for (const Defect& d : defects)
+    if (defect_is_fatal(d.kind) && d.count > 0) {
+      s += (first ? " " : ", ") + std::to_string(d.count) + " " + defect_description(d.kind);
+      first = false;
+    }
+  if (triangles == 0) s += " no triangles";
+  return s;
+}
+
+std::string ValidationReport::to_text() const {
+  std::string s = file + ": " + std::to_string(triangles) + " triangles, " + std::to_string(file_vertices) +
+                  " vertices in the file, " + std::to_string(welded_vertices) + " after welding, " +
+                  std::to_string(edges) + " edges\n";
+  s += "  components: " + std::to_string(components);
+  s += genus ? ", genus: " + std::to_string(*genus) : std::string(", genus: n/a (not a closed manifold)");
+  s += "\n  volume: " + fmt_g(volume) + ", area: " + fmt_g(area) + ", box: " + fmt_point(box.lo) + " - " +
+       fmt_point(box.hi) + "\n";
+  if (!self_intersections_checked) s += "  self-intersections: not checked\n";
+  for (const Defect& d : defects) {
+    if (d.count == 0) continue;
+    s += std::string(defect_is_fatal(d.kind) ? "  ERROR " : "  warning ") + defect_description(d.kind) + ": " +
+         std::to_string(d.count) + "\n";
+    for (const DefectLocation& l : d.examples) {
+      s += "    ";
+      if (l.triangle != kNone) {
+        s += "triangle " + std::to_string(l.triangle);
+        if (l.face != kNone && l.face != l.triangle) s += " (face " + std::to_string(l.face) + ")";
+        if (l.line) s += " (line " + std::to_string(l.line) + ")";
+        if (l.other != kNone) s += " and triangle " + std::to_string(l.other);
+        s += " ";
+      }
+      if (l.vertex != kNone && (d.kind == DefectKind::NonManifoldVertices || d.kind == DefectKind::UnusedVertices ||
+                                d.kind == DefectKind::DuplicateVertices))
+        s += "vertex " + std::to_string(l.vertex) + " ";
+      s += "at " + fmt_point(l.point) + "\n";
+    }
+  }
+  s += summary() + "\n";
+  return s;
+}
+
+std::string ValidationReport::to_json() const {
+  std::string s = "{\n  \"file\": \"" + json_escape(file) + "\",\n";
+  s += "  \"solid\": " + std::string(is_solid() ? "true" : "false") + ",\n";
+  s += "  \"summary\": \"" + json_escape(summary()) + "\",\n";
+  s += "  \"triangles\": " + std::to_string(triangles) + ",\n  \"file_vertices\": " + std::to_string(file_vertices) +
+       ",\n  \"welded_vertices\": " + std::to_string(welded_vertices) + ",\n  \"edges\": " + std::to_string(edges) +
+       ",\n  \"components\": " + std::to_string(components) + ",\n  \"genus\": " +
+       (genus ? std::to_string(*genus) : std::string("null")) + ",\n  \"volume\": " + json_num(volume) +
+       ",\n  \"area\": " + json_num(area) + ",\n  \"box\": [[" + json_num(box.lo.x) + ", " + json_num(box.lo.y) +
+       ", " + json_num(box.lo.z) + "], [" + json_num(box.hi.x) + ", " + json_num(box.hi.y) + ", " +
+       json_num(box.hi.z) + "]],\n  \"self_intersections_checked\": " + (self_intersections_checked ? "true" : "false") +
+       ",\n  \"defects\": {\n";
+  for (std::size_t i = 0; i < defects.size(); ++i) {
+    const Defect& d = defects[i];
+    s += "    \"" + std::string(defect_key(d.kind)) + "\": {\"count\": " + std::to_string(d.count) +
+         ", \"fatal\": " + (defect_is_fatal(d.kind) ? "true" : "false") + ", \"examples\": [";
+    for (std::size_t k = 0; k < d.examples.size(); ++k) {
+      const DefectLocation& l = d.examples[k];
+      s += k ? ", {" : "{";
+      std::string sep;
+      auto field = [&](const char* name, std::uint32_t v) {
+        if (v == kNone) return;
+        s += sep + "\"" + name + "\": " + std::to_string(v);
+        sep = ", ";
+      };
+      field("triangle", l.triangle);
+      field("other", l.other);
+      field("vertex", l.vertex);
+      field("face", l.face);
+      if (l.line) field("line", l.line);
+      s += sep + "\"point\": [" + json_num(l.point.x) + ", " + json_num(l.point.y) + ", " + json_num(l.point.z) + "]}";
+    }
+    s += "]}" + std::string(i + 1 < defects.size() ? ",\n" : "\n");
+  }
+  s += "  }\n}\n";
+  return s;
+}
+
+}  // namespace frep

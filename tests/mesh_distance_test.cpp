@@ -1,0 +1,205 @@
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <random>
+
+#include "frep/error.hpp"
+#include "frep/mesh/mesh_distance.hpp"
+#include "frep/mesh/mesh_io.hpp"
+#include "mesh_test_util.hpp"
+
+namespace frep {
+namespace {
+
+// Brute-force distance: closest point on every triangle, via barycentric projection and edges.
+double brute_distance(const TriMesh& m, const Vec3& p) {
+  double best = INFINITY;
+  auto seg = [&](Vec3 a, Vec3 b) {
+    const Vec3 ab = b - a;
+    double t = dot(p - a, ab) / dot(ab, ab);
+    t = std::clamp(t, 0.0, 1.0);
+    return length(p - (a + ab * t));
+  };
+  for (std::size_t t = 0; t < m.num_triangles(); ++t) {
+    const Vec3 a = m.corner(t, 0), b = m.corner(t, 1), c = m.corner(t, 2);
+    const Vec3 n = cross(b - a, c - a);
+    const Vec3 q = p - n * (dot(p - a, n) / dot(n, n));
+    const bool inside = dot(cross(b - a, q - a), n) >= 0 && dot(cross(c - b, q - b), n) >= 0 &&
+                        dot(cross(a - c, q - c), n) >= 0;
+    if (inside) best = std::min(best, length(p - q));
+    best = std::min({best, seg(a, b), seg(b, c), seg(c, a)});
+  }
+  return best;
+}
+
+double box_sdf(const Vec3& p, const Vec3& half) {
+  const Vec3 q{std::fabs(p.x) - half.x, std::fabs(p.y) - half.y, std::fabs(p.z) - half.z};
+  const Vec3 o{std::max(q.x, 0.0), std::max(q.y, 0.0), std::max(q.z, 0.0)};
+  return length(o) + std::min(std::max({q.x, q.y, q.z}), 0.0);
+}
+
+TEST(MeshDistance, MatchesBruteForceOnSmallMeshes) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-2, 2);
+  for (const TriMesh& m : {test::make_box(), test::make_sphere(1), test::make_fine_box(2, {-1, -0.5, 0}, {1, 0.5, 0.25})}) {
+    const MeshDistance md(m);
+    for (int i = 0; i < 2000; ++i) {
+      const Vec3 p{u(rng), u(rng), u(rng)};
+      const ClosestPoint c = md.closest_point(p);
+      EXPECT_NEAR(c.distance, brute_distance(m, p), 1e-12);
+      EXPECT_NEAR(length(c.point - p), c.distance, 1e-12);
+    }
+  }
+}
+
+TEST(MeshDistance, AnalyticBox) {
+  const Vec3 half{1.5, 0.5, 1};
+  const TriMesh box = test::make_fine_box(4, -half, half);
+  const MeshDistance md(box);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-3, 3);
+  for (int i = 0; i < 5000; ++i) {
+    // Half the points near the surface, where the sign matters most.
+    Vec3 p{u(rng), u(rng), u(rng)};
+    if (i % 2) p = p * (0.5 / std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)})) + Vec3{1e-3 * u(rng), 0, 0};
+    const double expect = box_sdf(p, half);
+    EXPECT_NEAR(md.signed_distance(p, SignMethod::WindingNumber), expect, 1e-12) << p.x << " " << p.y << " " << p.z;
+    EXPECT_NEAR(md.signed_distance(p, SignMethod::Pseudonormal), expect, 1e-12);
+  }
+  // On the surface: exactly zero; a box corner region uses the vertex pseudonormal.
+  EXPECT_EQ(md.signed_distance({1.5, 0, 0}), 0.0);
+  EXPECT_NEAR(md.signed_distance({1.6, 0.6, 1.1}, SignMethod::Pseudonormal), std::sqrt(0.03), 1e-12);
+  EXPECT_NEAR(md.signed_distance({1.4, 0.45, 0.95}, SignMethod::Pseudonormal), -0.05, 1e-12);
+}
+
+TEST(MeshDistance, AnalyticSphere) {
+  const double r = 2;
+  const TriMesh s = test::make_sphere(3, r);  // 1280 triangles
+  // The polyhedron lies between the sphere and the sphere shrunk by the largest sagitta.
+  double inradius = INFINITY;
+  for (std::size_t t = 0; t < s.num_triangles(); ++t) {
+    const Vec3 n = cross(s.corner(t, 1) - s.corner(t, 0), s.corner(t, 2) - s.corner(t, 0));
+    inradius = std::min(inradius, std::fabs(dot(s.corner(t, 0), n / length(n))));
+  }
+  const double sag = r - inradius;
+  const MeshDistance md(s);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g;
+  std::uniform_real_distribution<double> u(0, 4);
+  for (int i = 0; i < 3000; ++i) {
+    Vec3 dir{g(rng), g(rng), g(rng)};
+    dir = dir / length(dir);
+    const Vec3 p = dir * u(rng);
+    const double d = md.signed_distance(p);
+    EXPECT_LE(d, length(p) - r + sag + 1e-12);
+    EXPECT_GE(d, length(p) - r - 1e-12);
+    EXPECT_EQ(d < 0, md.signed_distance(p, SignMethod::Pseudonormal) < 0);
+  }
+}
+
+// The two sign methods agree on clean solids, including real ones, and the hierarchical winding
+// number stays within a small error of the exact one.
+TEST(MeshDistance, WindingAndPseudonormalAgreeOnCleanSolids) {
+  std::vector<TriMesh> meshes = {test::make_sphere(2), test::make_fine_box(3)};
+  if (test::have_shared_meshes()) {
+    for (const char* f : {"spot.obj", "fandisk.obj", "bunny_closed_libigl.off", "cube_unit_bin.stl"})
+      meshes.push_back(read_mesh(test::shared_mesh_dir() + "/" + f));
+  }
+  for (const TriMesh& m : meshes) {
+    const MeshDistance md(m);
+    const Box3 b = bounding_box(m);
+    const double diag = length(b.size());
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> u(0, 1);
+    int inside = 0;
+    for (int i = 0; i < 2000; ++i) {
+      const Vec3 sz = b.size();
+      Vec3 p = b.lo - sz * 0.1 + Vec3{u(rng) * sz.x, u(rng) * sz.y, u(rng) * sz.z} * 1.2;
+      if (i % 2) {  // pull half the points close to the surface
+        const ClosestPoint c = md.closest_point(p);
+        p = c.point + (p - c.point) * (1e-4 * diag / std::max(c.distance, 1e-300));
+      }
+      const double w = md.winding_number(p);
+      const int pn = md.pseudonormal_sign(p, md.closest_point(p));
+      if (pn == 0) continue;
+      EXPECT_EQ(w > 0.5, pn < 0) << m.name << " point " << i << " w=" << w;
+      EXPECT_LT(std::fabs(w - std::round(w)), 0.1) << m.name << " w=" << w;
+      if (i < 200) {
+        EXPECT_NEAR(w, md.winding_number_exact(p), 0.05);
+      }
+      inside += w > 0.5;
+    }
+    EXPECT_GT(inside, 100) << m.name;
+  }
+}
+
+TEST(MeshDistance, WindingNumberIsRobustToAHole) {
+  TriMesh open = test::make_sphere(3);
+  open.triangles.resize(open.triangles.size() - 3);  // a small hole
+  open.face_source.resize(open.triangles.size());
+  open.face_line.resize(open.triangles.size());
+  const MeshDistance md(open);
+  EXPECT_LT(md.signed_distance({0, 0, 0}), -0.9);
+  EXPECT_LT(md.signed_distance({0.3, -0.2, 0.1}), 0);
+  EXPECT_GT(md.signed_distance({1.5, 0, 0}), 0.4);
+  TriMesh empty;
+  EXPECT_THROW(MeshDistance{empty}, InputError);
+}
+
+TEST(MeshDistance, BatchIsIndependentOfThreads) {
+  const TriMesh s = test::make_sphere(3);
+  const MeshDistance md(s);
+  std::vector<double> x, y, z;
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  for (int i = 0; i < 5000; ++i) x.push_back(u(rng)), y.push_back(u(rng)), z.push_back(u(rng));
+  std::vector<double> a(x.size()), b(x.size());
+  md.signed_distance(x.data(), y.data(), z.data(), a.data(), x.size(), SignMethod::WindingNumber, 1);
+  md.signed_distance(x.data(), y.data(), z.data(), b.data(), x.size(), SignMethod::WindingNumber, 3);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(signed_distance(s, x, y, z), a);
+}
+
+// End to end: the CLI commands on small files written here.
+std::string run(const std::string& cmd, int& status) {
+  std::string out;
+  FILE* f = popen((cmd + " 2>&1").c_str(), "r");
+  char buf[4096];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) out.append(buf, n);
+  status = WEXITSTATUS(pclose(f));
+  return out;
+}
+
+TEST(MeshCli, CheckAndSdf) {
+  const std::string dir = ::testing::TempDir();
+  const std::string good = dir + "/frep_cli_box.stl", bad = dir + "/frep_cli_open.obj", pts = dir + "/frep_cli_pts.txt";
+  write_mesh(good, test::make_box());
+  TriMesh open = test::make_box();
+  open.triangles.pop_back(), open.face_source.pop_back(), open.face_line.pop_back();
+  write_mesh(bad, open);
+  { std::ofstream(pts) << "# points\n0 0 0\n2, 0, 0\n0.5 0.5\n"; }
+  int st;
+  std::string out = run(std::string(FREP_CLI_PATH) + " check " + good, st);
+  EXPECT_EQ(st, 0) << out;
+  EXPECT_NE(out.find("valid solid: 12 triangles"), std::string::npos) << out;
+  out = run(std::string(FREP_CLI_PATH) + " check --json " + bad, st);
+  EXPECT_EQ(st, 4) << out;
+  EXPECT_NE(out.find("\"open_edges\": {\"count\": 3"), std::string::npos) << out;
+  out = run(std::string(FREP_CLI_PATH) + " sdf " + good + " --points " + pts, st);
+  EXPECT_EQ(st, 0);
+  EXPECT_EQ(out, "-1\n1\n-0.5\n");
+  out = run(std::string(FREP_CLI_PATH) + " sdf " + good + " --sign pseudonormal -p " + pts, st);
+  EXPECT_EQ(out, "-1\n1\n-0.5\n");
+  out = run(std::string(FREP_CLI_PATH) + " check " + dir + "/does_not_exist.stl", st);
+  EXPECT_EQ(st, 1);
+  { std::ofstream(pts) << "1 2 3\n4 five 6\n"; }
+  out = run(std::string(FREP_CLI_PATH) + " sdf " + good + " -p " + pts, st);
+  EXPECT_EQ(st, 1);
+  EXPECT_NE(out.find("frep_cli_pts.txt:2: bad number 'five'"), std::string::npos) << out;
+  for (const std::string& f : {good, bad, pts}) std::remove(f.c_str());
+}
+
+}  // namespace
+}  // namespace frep

@@ -1,0 +1,216 @@
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <map>
+#include <random>
+#include <sstream>
+
+#include "frep/mesh/mesh_io.hpp"
+#include "frep/mesh/validate.hpp"
+#include "mesh/predicates.hpp"
+#include "mesh/tri_tri.hpp"
+#include "mesh_test_util.hpp"
+
+namespace frep {
+namespace {
+
+std::uint64_t count(const ValidationReport& r, DefectKind k) { return r.defect(k).count; }
+
+TEST(Predicates, ExactOrientationNearDegenerate) {
+  // Points on a line with coordinates that do not cancel in floating point: the filter fails and
+  // the exact path must still say "collinear"/"coplanar".
+  EXPECT_EQ(exact::orient2d(0.1, 0.1, 0.2, 0.2, 0.3, 0.3), 0);  // all on y = x exactly
+  EXPECT_EQ(exact::orient3d({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}), 1);
+  EXPECT_EQ(exact::orient3d({0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {0, 0, 1}), -1);
+  EXPECT_EQ(exact::orient3d({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 0.25, 0}), 0);
+  // A point 2^-60 above a plane through large coordinates.
+  const double e = std::ldexp(1.0, -60);
+  EXPECT_EQ(exact::orient3d({0.1, 0.1, 0.3}, {0.2, 0.2, 0.7}, {0.3, 0.3, 0.9}, {0.7, 0.7, 0.1}), 0);  // plane x = y
+  EXPECT_EQ(exact::orient3d({0.1, 0.1, 0.3}, {0.2, 0.2, 0.7}, {0.3, 0.3, 0.9}, {0.7, std::nextafter(0.7, 1.0), 0.1}),
+            -exact::orient3d({0.1, 0.1, 0.3}, {0.2, 0.2, 0.7}, {0.3, 0.3, 0.9}, {0.7, std::nextafter(0.7, 0.0), 0.1}));
+  EXPECT_NE(exact::orient3d({0.1, 0.1, 0.3}, {0.2, 0.2, 0.7}, {0.3, 0.3, 0.9}, {0.7, std::nextafter(0.7, 1.0), 0.1}), 0);
+  EXPECT_EQ(exact::orient3d({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1e10, 1e10, e}), 1);
+  EXPECT_EQ(exact::orient3d({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1e10, 1e10, -e}), -1);
+  // Coordinates at the float limit (the fltmax box) must not overflow.
+  EXPECT_EQ(exact::orient3d({-3.4e38, -3.4e38, -3.4e38}, {3.4e38, -3.4e38, -3.4e38}, {-3.4e38, 3.4e38, -3.4e38},
+                            {-3.4e38, -3.4e38, 3.4e38}),
+            1);
+}
+
+Contact classify(std::array<Vec3, 3> p, std::array<Vec3, 3> q, std::array<unsigned, 3> pi = {0, 1, 2},
+                 std::array<unsigned, 3> qi = {3, 4, 5}) {
+  return classify_triangle_pair(p.data(), pi.data(), q.data(), qi.data());
+}
+
+TEST(TriTri, HandMadeCases) {
+  const std::array<Vec3, 3> t{{{0, 0, 0}, {2, 0, 0}, {0, 2, 0}}};
+  // Crossing: a vertical triangle piercing t.
+  EXPECT_EQ(classify(t, {{{0.5, 0.5, -1}, {0.5, 0.5, 1}, {3, 3, 1}}}), Contact::Cross);
+  // Disjoint, above.
+  EXPECT_EQ(classify(t, {{{0, 0, 1}, {1, 0, 1}, {0, 1, 2}}}), Contact::None);
+  // Vertex of q touching t's interior from above.
+  EXPECT_EQ(classify(t, {{{0.5, 0.5, 0}, {1, 0, 1}, {0, 1, 1}}}), Contact::Touch);
+  // Edge of q lying across t's interior, q above: touching, not crossing.
+  EXPECT_EQ(classify(t, {{{0.1, 0.1, 0}, {1, 0.5, 0}, {0.5, 0.5, 1}}}), Contact::Touch);
+  // Crossing through an edge of t only (q meets t's boundary edge transversally but t's interior?):
+  // q vertical through the edge y = 0: its interior meets t only on t's boundary.
+  EXPECT_EQ(classify(t, {{{0.5, 0, -1}, {1.5, 0, -1}, {1, 0, 1}}}), Contact::Touch);
+  // Coplanar overlap and coplanar edge contact.
+  EXPECT_EQ(classify(t, {{{0.5, 0.5, 0}, {3, 0.5, 0}, {0.5, 3, 0}}}), Contact::Overlap);
+  EXPECT_EQ(classify(t, {{{2, 0, 0}, {0, 2, 0}, {2, 2, 0}}}), Contact::Touch);  // shares an edge geometrically
+  EXPECT_EQ(classify(t, {{{3, 3, 0}, {4, 3, 0}, {3, 4, 0}}}), Contact::None);
+  // Neighbours across an edge (shared indices 1, 2): flat, bent, folded.
+  EXPECT_EQ(classify(t, {{{2, 0, 0}, {2, 2, 0}, {0, 2, 0}}}, {0, 1, 2}, {1, 3, 2}), Contact::None);
+  EXPECT_EQ(classify(t, {{{2, 0, 0}, {2, 2, 1}, {0, 2, 0}}}, {0, 1, 2}, {1, 3, 2}), Contact::None);
+  EXPECT_EQ(classify(t, {{{2, 0, 0}, {0.5, 0.5, 0}, {0, 2, 0}}}, {0, 1, 2}, {1, 3, 2}), Contact::Overlap);
+  // Neighbours at a vertex: one crossing through the other, and a plain fan neighbour.
+  EXPECT_EQ(classify(t, {{{0, 0, 0}, {1, 1, -1}, {1, 1, 1}}}, {0, 1, 2}, {0, 3, 4}), Contact::Cross);
+  EXPECT_EQ(classify(t, {{{0, 0, 0}, {-1, 0, 0}, {0, -1, 1}}}, {0, 1, 2}, {0, 3, 4}), Contact::None);
+}
+
+// Against a floating-point construction on random (generic) triangles.
+TEST(TriTri, AgreesWithConstructionOnRandomTriangles) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  auto seg_hits = [](Vec3 a, Vec3 b, const std::array<Vec3, 3>& t) {
+    const Vec3 n = cross(t[1] - t[0], t[2] - t[0]);
+    const double da = dot(a - t[0], n), db = dot(b - t[0], n);
+    if (da * db > 0) return false;
+    const Vec3 x = a + (b - a) * (da / (da - db));
+    const double c0 = dot(cross(t[1] - t[0], x - t[0]), n), c1 = dot(cross(t[2] - t[1], x - t[1]), n),
+                 c2 = dot(cross(t[0] - t[2], x - t[2]), n);
+    return (c0 >= 0 && c1 >= 0 && c2 >= 0) || (c0 <= 0 && c1 <= 0 && c2 <= 0);
+  };
+  int crossings = 0;
+  for (int it = 0; it < 20000; ++it) {
+    std::array<Vec3, 3> p, q;
+    for (auto& v : p) v = {u(rng), u(rng), u(rng)};
+    for (auto& v : q) v = {u(rng), u(rng), u(rng)};
+    bool truth = false;
+    for (int i = 0; i < 3; ++i)
+      truth = truth || seg_hits(p[i], p[(i + 1) % 3], q) || seg_hits(q[i], q[(i + 1) % 3], p);
+    const Contact c = classify(p, q);
+    EXPECT_EQ(c == Contact::Cross, truth) << it;
+    crossings += truth;
+  }
+  EXPECT_GT(crossings, 1000);
+}
+
+TEST(Validate, CleanBoxAndSphere) {
+  for (const TriMesh& m : {test::make_box(), test::make_fine_box(3), test::make_sphere(2)}) {
+    const ValidationReport r = validate_mesh(m);
+    EXPECT_TRUE(r.is_solid()) << r.to_text();
+    EXPECT_EQ(r.genus, 0);
+    EXPECT_EQ(r.components, 1u);
+    EXPECT_GT(r.volume, 0);
+  }
+  const ValidationReport r = validate_mesh(test::make_box());
+  EXPECT_DOUBLE_EQ(r.volume, 8.0);
+  EXPECT_DOUBLE_EQ(r.area, 24.0);
+}
+
+TEST(Validate, EachDefectIsFoundAndLocated) {
+  TriMesh open = test::make_box();
+  open.triangles.pop_back(), open.face_source.pop_back(), open.face_line.pop_back();
+  ValidationReport r = validate_mesh(open);
+  EXPECT_FALSE(r.is_solid());
+  EXPECT_EQ(count(r, DefectKind::OpenEdges), 3u);
+  EXPECT_NE(r.summary().find("3 open (boundary) edges"), std::string::npos) << r.summary();
+
+  TriMesh flipped = test::make_box();
+  std::swap(flipped.triangles[4][1], flipped.triangles[4][2]);
+  r = validate_mesh(flipped);
+  EXPECT_EQ(count(r, DefectKind::InconsistentOrientation), 3u);
+  ASSERT_FALSE(r.defect(DefectKind::InconsistentOrientation).examples.empty());
+
+  TriMesh inward = test::make_box();
+  for (auto& t : inward.triangles) std::swap(t[1], t[2]);
+  r = validate_mesh(inward);
+  EXPECT_EQ(count(r, DefectKind::InwardOrientation), 1u);
+  EXPECT_LT(r.volume, 0);
+
+  // Two boxes sharing one edge: a non-manifold edge and two pinched vertices.
+  TriMesh two = test::make_box({0, 0, 0}, {1, 1, 1});
+  TriMesh other = test::make_box({1, 1, 0}, {2, 2, 1});
+  for (const Triangle& t : other.triangles) two.add_triangle(t[0] + 8, t[1] + 8, t[2] + 8, 0, 0);
+  two.vertices.insert(two.vertices.end(), other.vertices.begin(), other.vertices.end());
+  r = validate_mesh(two);
+  EXPECT_EQ(count(r, DefectKind::NonManifoldEdges), 1u);
+  EXPECT_EQ(count(r, DefectKind::NonManifoldVertices), 2u);
+  EXPECT_EQ(count(r, DefectKind::SelfIntersections), 0u);
+
+  // Two boxes overlapping: crossing pairs; duplicate triangle; unused and collapsed.
+  TriMesh cross = test::make_box({0, 0, 0}, {1, 1, 1});
+  TriMesh moved = test::make_box({0.5, 0.5, 0.5}, {1.5, 1.5, 1.5});
+  for (const Triangle& t : moved.triangles) cross.add_triangle(t[0] + 8, t[1] + 8, t[2] + 8, 0, 0);
+  cross.vertices.insert(cross.vertices.end(), moved.vertices.begin(), moved.vertices.end());
+  r = validate_mesh(cross);
+  EXPECT_GT(count(r, DefectKind::SelfIntersections), 0u);
+  EXPECT_EQ(r.components, 2u);
+  EXPECT_EQ(r.genus, 0);
+
+  TriMesh dup = test::make_box();
+  dup.add_triangle(dup.triangles[0][1], dup.triangles[0][2], dup.triangles[0][0], 12, 7);
+  dup.vertices.push_back({9, 9, 9});
+  dup.add_triangle(0, 0, 1, 13, 8);
+  r = validate_mesh(dup);
+  EXPECT_EQ(count(r, DefectKind::DuplicateTriangles), 1u);
+  EXPECT_EQ(count(r, DefectKind::UnusedVertices), 1u);
+  EXPECT_EQ(count(r, DefectKind::CollapsedTriangles), 1u);
+  EXPECT_EQ(r.defect(DefectKind::CollapsedTriangles).examples[0].line, 8u);
+
+  // Pyramid fold: a triangle folded back flat onto its neighbour.
+  TriMesh fold;
+  fold.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.2, 0.2, 0}};
+  fold.add_triangle(0, 1, 2, 0, 0);
+  fold.add_triangle(1, 3, 2, 1, 0);
+  r = validate_mesh(fold);
+  EXPECT_EQ(count(r, DefectKind::Overlaps), 1u);
+  // JSON has every key.
+  const std::string j = r.to_json();
+  for (int k = 0; k < kDefectKinds; ++k) EXPECT_NE(j.find(defect_key(DefectKind(k))), std::string::npos);
+}
+
+// Every shared mesh gets the verdict its MANIFEST notes imply.
+TEST(Validate, VerdictsMatchSharedManifest) {
+  FREP_REQUIRE_SHARED_MESHES();
+  std::ifstream in(test::shared_mesh_dir() + "/MANIFEST.tsv");
+  std::string line;
+  std::getline(in, line);  // header
+  int checked = 0;
+  while (std::getline(in, line)) {
+    std::vector<std::string> col;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, '\t');) col.push_back(c);
+    ASSERT_GE(col.size(), 7u) << line;
+    const std::string& notes = col[6];
+    // Defects that make a mesh unusable as a solid, as the manifest words them.
+    bool broken = notes.find("SELF-INTERSECTING") != std::string::npos || notes.find("open:") != std::string::npos ||
+                  notes.find("non-manifold") != std::string::npos ||
+                  notes.find("inconsistent orientation") != std::string::npos ||
+                  notes.find("duplicate faces") != std::string::npos;
+    // "touching/coplanar-overlap/fold pairs (a/b/c)": overlaps and folds (b, c) are defects.
+    if (auto p = notes.find("fold pairs ("); p != std::string::npos) {
+      int a = 0, b = 0, c = 0;
+      std::sscanf(notes.c_str() + p + 12, "%d/%d/%d", &a, &b, &c);
+      broken = broken || b + c > 0;
+    }
+    if (col[5] == "yes") {
+      EXPECT_EQ(notes.find("open:"), std::string::npos);
+    }
+    const ValidationReport r = validate_mesh(read_mesh(test::shared_mesh_dir() + "/" + col[0]));
+    EXPECT_EQ(r.is_solid(), !broken) << col[0] << ": " << notes << "\n" << r.to_text();
+    // Genus where the manifest states it and the mesh is closed and manifold.
+    if (auto p = notes.find("genus "); p != std::string::npos && r.genus) {
+      EXPECT_EQ(*r.genus, std::atoi(notes.c_str() + p + 6)) << col[0];
+    }
+    if (notes.find("SELF-INTERSECTING") != std::string::npos) {
+      EXPECT_GT(count(r, DefectKind::SelfIntersections), 0u) << col[0];
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 30);
+}
+
+}  // namespace
+}  // namespace frep
