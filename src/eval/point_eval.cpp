@@ -1,3 +1,5 @@
+#include <cmath>
+
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/expr/semantics.hpp"
@@ -15,6 +17,23 @@ float PointEvaluator::eval(const Tape& tape, float x, float y, float z) {
       case Op::VarY: r[ins.out] = y; break;
       case Op::VarZ: r[ins.out] = z; break;
       case Op::Const: r[ins.out] = ins.imm; break;
+      // The common ops get their own cases, so one switch decides everything for them.
+#define FREP_POINT_BINARY(OP, expr)                                          \
+  case Op::OP: {                                                             \
+    const float a = (ins.mode & RegInstr::kImmA) ? ins.imm : r[ins.a];       \
+    const float b = (ins.mode & RegInstr::kImmB) ? ins.imm : r[ins.b];       \
+    r[ins.out] = (expr);                                                     \
+    break;                                                                   \
+  }
+      FREP_POINT_BINARY(Add, a + b)
+      FREP_POINT_BINARY(Sub, a - b)
+      FREP_POINT_BINARY(Mul, a * b)
+      FREP_POINT_BINARY(Min, op_min(a, b))
+      FREP_POINT_BINARY(Max, op_max(a, b))
+#undef FREP_POINT_BINARY
+      case Op::Neg: r[ins.out] = -r[ins.a]; break;
+      case Op::Square: r[ins.out] = r[ins.a] * r[ins.a]; break;
+      case Op::Sqrt: r[ins.out] = std::sqrt(r[ins.a]); break;
       default: {
         const float a = (ins.mode & RegInstr::kImmA) ? ins.imm : r[ins.a];
         const float b = (ins.mode & RegInstr::kImmB) ? ins.imm : r[ins.b];
