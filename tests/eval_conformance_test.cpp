@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "frep/eval/interval_batch.hpp"
 #include "frep/expr/expr.hpp"
 #include "test_util.hpp"
 
@@ -167,9 +168,32 @@ struct IntervalBackend : Backend {
   }
 };
 
+// The 16-box interval evaluator, 16 degenerate boxes at a time.
+struct IntervalBatchBackend : Backend {
+  IntervalBatchEvaluator ev;
+  bool exact() const override { return false; }
+  void run(const Tape& t, const std::vector<float>& xs, const std::vector<float>& ys, const std::vector<float>& zs,
+           std::vector<Interval>& out) override {
+    constexpr int L = IntervalBatchEvaluator::kLanes;
+    out.resize(xs.size());
+    for (std::size_t i = 0; i < xs.size(); i += L) {
+      const int count = static_cast<int>(std::min<std::size_t>(L, xs.size() - i));
+      Interval bx[L], by[L], bz[L];
+      for (int k = 0; k < count; ++k) {
+        bx[k] = Interval::point(xs[i + k]);
+        by[k] = Interval::point(ys[i + k]);
+        bz[k] = Interval::point(zs[i + k]);
+      }
+      ev.eval(t, bx, by, bz, count);
+      for (int k = 0; k < count; ++k) out[i + k] = ev.result(k);
+    }
+  }
+};
+
 std::unique_ptr<Backend> make_backend(const std::string& name) {
   if (name == "Point") return std::make_unique<PointBackend>();
   if (name == "Interval") return std::make_unique<IntervalBackend>();
+  if (name == "IntervalBatch") return std::make_unique<IntervalBatchBackend>();
   if (name.rfind("Batch", 0) == 0) return std::make_unique<BatchBackend>(std::stoul(name.substr(5)));
   if (name.rfind("Grad", 0) == 0) return std::make_unique<GradBackend>(std::stoul(name.substr(4)));
   return nullptr;
@@ -404,7 +428,7 @@ TEST_P(Conformance, ReusingOneEvaluatorAcrossTapesOfDifferentSizes) {
 INSTANTIATE_TEST_SUITE_P(AllEvaluators, Conformance,
                          ::testing::Values("Point", "Batch1", "Batch7", "Batch8", "Batch9", "Batch255", "Batch256",
                                            "Batch257", "Batch1000", "Grad1", "Grad63", "Grad64", "Grad65",
-                                           "Grad1000", "Interval"),
+                                           "Grad1000", "Interval", "IntervalBatch"),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
 TEST(BatchEvaluator, ZeroPointsIsANoOp) {
