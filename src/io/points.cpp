@@ -1,11 +1,11 @@
 #include "frep/io/points.hpp"
 
-#include <charconv>
 #include <iostream>
 #include <iterator>
 
 #include "frep/error.hpp"
 #include "frep/io/atomic_file.hpp"
+#include "io/parse_number.hpp"
 
 namespace frep {
 namespace {
@@ -33,17 +33,8 @@ PointColumns<T> parse(std::string_view text, const std::string& name) {
       while (j < line.size() && !sep(line[j])) ++j;
       std::string_view tok = line.substr(i, j - i);
       if (n == 3) throw InputError(name, line_no, "expected 2 or 3 numbers per line, got more");
-      const char* b = tok.data();
-      const char* e = b + tok.size();
-      if (b != e && *b == '+') ++b;
-      auto r = std::from_chars(b, e, v[n]);
-      if (b == e || r.ptr != e || (r.ec != std::errc() && r.ec != std::errc::result_out_of_range))
+      if (!parse_real(tok, v[n]))
         throw InputError(name, line_no, "bad number '" + std::string(tok.substr(0, 40)) + "'");
-      if (r.ec == std::errc::result_out_of_range) {
-        // Overflow becomes +-inf and underflow 0, as strtof/strtod would give.
-        const std::string copy(tok);
-        v[n] = static_cast<T>(std::strtod(copy.c_str(), nullptr));
-      }
       ++n;
       i = j;
     }

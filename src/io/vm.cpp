@@ -11,6 +11,7 @@
 
 #include "frep/error.hpp"
 #include "frep/io/atomic_file.hpp"
+#include "io/parse_number.hpp"
 
 namespace frep {
 namespace {
@@ -34,17 +35,9 @@ std::string quoted(std::string_view s) {
 }
 
 float parse_number(std::string_view tok, const std::string& name, std::uint64_t line_no) {
-  std::string_view t = tok;
-  if (!t.empty() && t[0] == '+') t.remove_prefix(1);  // from_chars takes no plus sign
   float v = 0;
-  const auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-  if (ec == std::errc() && ptr == t.data() + t.size() && !t.empty()) return v;
-  if (ec == std::errc::result_out_of_range && ptr == t.data() + t.size()) {
-    // Overflow gives +-inf and underflow 0 or a denormal, as strtof (and Fidget's reader) do.
-    const std::string s(tok);
-    return std::strtof(s.c_str(), nullptr);
-  }
-  throw InputError(name, line_no, "bad number " + quoted(tok));
+  if (!parse_real(tok, v)) throw InputError(name, line_no, "bad number " + quoted(tok));
+  return v;  // overflow gives +-inf, as Fidget's reader does
 }
 
 // Ids to line indices: open addressing over the lines' own id strings (no per-id allocation,

@@ -2,6 +2,8 @@
 // tracking, number parsing that never reads past the end, and little/big-endian loads.
 #pragma once
 
+#include "io/parse_number.hpp"
+
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -42,21 +44,7 @@ inline std::string printable(std::string_view s) {
 }
 
 // Parses a whole token as a double ("+1", "1e5", "-.5"); false if it is not exactly a number.
-inline bool parse_double(std::string_view tok, double& out) {
-  const char* b = tok.data();
-  const char* e = b + tok.size();
-  if (b != e && *b == '+') ++b;
-  if (b == e) return false;
-  auto r = std::from_chars(b, e, out, std::chars_format::general);
-  if (r.ec == std::errc::result_out_of_range) {
-    // from_chars reports overflow and underflow alike; decide by the exponent's sign via strtod
-    // on a bounded copy (tokens are short).
-    std::string copy(b, e);
-    out = std::strtod(copy.c_str(), nullptr);
-    return true;
-  }
-  return r.ec == std::errc() && r.ptr == e;
-}
+inline bool parse_double(std::string_view tok, double& out) { return parse_real(tok, out); }
 
 // Parses a whole token as a signed integer.
 inline bool parse_int(std::string_view tok, std::int64_t& out) {
