@@ -1,12 +1,10 @@
 #include "frep/io/vm.hpp"
 
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <algorithm>
-#include <charconv>
 #include <vector>
 
 #include "frep/error.hpp"
