@@ -12,6 +12,25 @@
 
 namespace frep {
 
+namespace mesh_detail {
+// The query structure, 4-wide so one SIMD register of doubles (AVX2; two on SSE4) tests four
+// boxes or four triangles at once. Built from the binary BVH by pulling grandchildren up.
+constexpr int kWidth = 4;
+struct alignas(32) WideNode {
+  double lo[3][kWidth], hi[3][kWidth];  // child boxes; an empty slot has lo = +inf, hi = -inf
+  std::int32_t child[kWidth];           // >= 0: inner node; < 0: leaf, packets ~child, ~child + 1, ...
+  std::uint32_t packets[kWidth];        // number of packets of a leaf child
+};
+// Four triangles, structure of arrays. Padding lanes repeat the packet's last triangle.
+struct alignas(32) TriPacket {
+  double a[3][kWidth], b[3][kWidth], c[3][kWidth];  // corners
+  double n[3][kWidth];                              // cross(b - a, c - a); zero if degenerate
+  double inv_n2[kWidth];                            // 1 / |n|^2, zero if degenerate
+  double inv_e2[3][kWidth];  // 1 / |edge k|^2 (edge k joins corners k and k+1), zero if a point
+  std::uint32_t tri[kWidth];  // leaf-order triangle index
+};
+}  // namespace mesh_detail
+
 enum class SignMethod {
   WindingNumber,  // inside where the generalized winding number exceeds 1/2
   Pseudonormal,   // side of the closest feature's angle-weighted pseudonormal (Baerentzen-Aanaes)
@@ -59,7 +78,6 @@ class MeshDistance {
  private:
   struct Tri {
     Vec3 a, b, c;
-    Vec3 n;  // unit normal (zero if degenerate): |(p - a) . n| is a cheap lower bound
   };
   struct WindingNode {
     Vec3 area_normal;  // sum of the triangles' area vectors (half the cross products)
@@ -67,6 +85,8 @@ class MeshDistance {
     double radius;     // distance from center to the farthest corner below the node
   };
   std::vector<TriangleBvh::Node> nodes_;
+  std::vector<mesh_detail::WideNode> wide_;    // closest-point queries
+  std::vector<mesh_detail::TriPacket> packets_;
   std::vector<Tri> tri_;                     // in BVH leaf order
   std::vector<std::uint32_t> tri_id_;        // leaf order -> mesh triangle index
   std::vector<WindingNode> wind_;            // per BVH node
