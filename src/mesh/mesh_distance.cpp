@@ -73,13 +73,63 @@ inline double solid_angle(const Vec3& p, const Vec3& a0, const Vec3& b0, const V
   return 2 * std::atan2(num, den);
 }
 
+// Winding-number data of a binary node: the triangles below act, from far away, as one dipole.
+struct Dipole {
+  Vec3 area_normal;  // sum of the triangles' area vectors (half the cross products)
+  Vec3 center;       // area-weighted centroid
+  double radius;     // distance from center to the farthest corner below the node
+};
+
+std::vector<Dipole> binary_dipoles(const std::vector<TriangleBvh::Node>& nodes,
+                                   const std::vector<std::array<Vec3, 3>>& corners) {
+  // Children before parents (children have larger indices).
+  std::vector<Dipole> dip(nodes.size(), Dipole{});
+  std::vector<double> node_area(nodes.size(), 0);
+  for (std::size_t ni = nodes.size(); ni-- > 0;) {
+    const TriangleBvh::Node& n = nodes[ni];
+    Dipole& wn = dip[ni];
+    Vec3 weighted;
+    double area = 0;
+    if (n.leaf()) {
+      for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
+        const auto& [ta, tb, tc] = corners[i];
+        const Vec3 an = cross(tb - ta, tc - ta) * 0.5;
+        const double a = length(an);
+        wn.area_normal += an;
+        weighted += (ta + tb + tc) * (a / 3.0);
+        area += a;
+      }
+    } else {
+      for (std::uint32_t ch : {n.index, n.index + 1}) {
+        wn.area_normal += dip[ch].area_normal;
+        weighted += dip[ch].center * node_area[ch];
+        area += node_area[ch];
+      }
+    }
+    node_area[ni] = area;
+    wn.center = area > 0 ? weighted / area : Vec3{(n.lo[0] + n.hi[0]) * 0.5, (n.lo[1] + n.hi[1]) * 0.5,
+                                                  (n.lo[2] + n.hi[2]) * 0.5};
+    // Radius: farthest box corner bounds the farthest triangle corner.
+    double r2 = 0;
+    for (int k = 0; k < 8; ++k) {
+      const Vec3 corner{(k & 1) ? n.hi[0] : n.lo[0], (k & 2) ? n.hi[1] : n.lo[1], (k & 4) ? n.hi[2] : n.lo[2]};
+      r2 = std::max(r2, length2(corner - wn.center));
+    }
+    wn.radius = std::sqrt(r2);
+  }
+  return dip;
+}
+
 // The 4-wide query hierarchy: each wide node takes the children of a binary node and keeps
 // opening its largest inner child (by surface area) until it has four. Leaves become packets of
 // four triangles (leaf order), the last lane repeated as padding.
 struct WideBuilder {
   const std::vector<TriangleBvh::Node>& bin;
   const std::vector<std::array<Vec3, 3>>& corners;  // per triangle, leaf order
+  const std::vector<Dipole>& dipole;                 // per binary node
+  double beta2;                                      // squared far-field ratio
   std::vector<mesh_detail::WideNode>& wide;
+  std::vector<mesh_detail::WideDipoles>& dipoles;
   std::vector<mesh_detail::TriPacket>& packets;
 
   static double area(const TriangleBvh::Node& n) {
@@ -103,6 +153,7 @@ struct WideBuilder {
         }
         p.inv_n2[j] = n2 > 0 ? 1 / n2 : 0;
         p.tri[j] = i;
+        p.real[j] = base + j < n.count ? 1 : 0;
       }
     }
     return ~first;
@@ -124,12 +175,15 @@ struct WideBuilder {
     }
     const auto w = static_cast<std::uint32_t>(wide.size());
     wide.emplace_back();
+    dipoles.emplace_back();
     for (int j = 0; j < mesh_detail::kWidth; ++j) {
-      std::int32_t child = 0;
+      std::int32_t child = 0;  // an empty slot: child 0 (the root, never a child) without packets
       std::uint32_t count = 0;
       double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+      Dipole dip{{}, {}, INFINITY};
       if (j < int(kids.size())) {
         const TriangleBvh::Node& n = bin[kids[j]];
+        dip = dipole[kids[j]];
         for (int k = 0; k < 3; ++k) lo[k] = n.lo[k], hi[k] = n.hi[k];
         if (n.leaf()) {
           child = leaf(n);
@@ -142,6 +196,9 @@ struct WideBuilder {
       for (int k = 0; k < 3; ++k) wn.lo[k][j] = lo[k], wn.hi[k][j] = hi[k];
       wn.child[j] = child;
       wn.packets[j] = count;
+      mesh_detail::WideDipoles& wd = dipoles[w];
+      for (int k = 0; k < 3; ++k) wd.center[k][j] = dip.center[k], wd.area_normal[k][j] = dip.area_normal[k];
+      wd.far2[j] = beta2 * dip.radius * dip.radius;
     }
     return w;
   }
@@ -176,7 +233,6 @@ MeshDistance::MeshDistance(const TriMesh& mesh, const MeshDistanceOptions& optio
   BvhOptions bo;
   bo.max_leaf_size = options.max_leaf_size;
   const TriangleBvh bvh(m, bo);
-  nodes_ = bvh.nodes();
   tri_id_ = bvh.order();
   tri_.resize(nt);
   std::vector<std::array<Vec3, 3>> corners(nt);
@@ -185,7 +241,8 @@ MeshDistance::MeshDistance(const TriMesh& mesh, const MeshDistanceOptions& optio
     corners[i] = {m.corner(t, 0), m.corner(t, 1), m.corner(t, 2)};
     tri_[i] = {corners[i][0], corners[i][1], corners[i][2]};
   }
-  WideBuilder{nodes_, corners, wide_, packets_}.node(0);
+  const double beta2 = options.winding_beta * options.winding_beta;
+  WideBuilder{bvh.nodes(), corners, binary_dipoles(bvh.nodes(), corners), beta2, wide_, dipoles_, packets_}.node(0);
 
   // Pseudonormals: unit face normals, edge normals as the sum over the edge's triangles, vertex
   // normals weighted by the corner angles.
@@ -223,41 +280,6 @@ MeshDistance::MeshDistance(const TriMesh& mesh, const MeshDistanceOptions& optio
     }
   }
 
-  // Winding-number data per node, children before parents (children have larger indices).
-  wind_.assign(nodes_.size(), WindingNode{});
-  std::vector<double> node_area(nodes_.size(), 0);
-  for (std::size_t ni = nodes_.size(); ni-- > 0;) {
-    const TriangleBvh::Node& n = nodes_[ni];
-    WindingNode& wn = wind_[ni];
-    Vec3 weighted;
-    double area = 0;
-    if (n.leaf()) {
-      for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
-        const Tri& t = tri_[i];
-        const Vec3 an = cross(t.b - t.a, t.c - t.a) * 0.5;
-        const double a = length(an);
-        wn.area_normal += an;
-        weighted += (t.a + t.b + t.c) * (a / 3.0);
-        area += a;
-      }
-    } else {
-      for (std::uint32_t ch : {n.index, n.index + 1}) {
-        wn.area_normal += wind_[ch].area_normal;
-        weighted += wind_[ch].center * node_area[ch];
-        area += node_area[ch];
-      }
-    }
-    node_area[ni] = area;
-    wn.center = area > 0 ? weighted / area : Vec3{(n.lo[0] + n.hi[0]) * 0.5, (n.lo[1] + n.hi[1]) * 0.5,
-                                                  (n.lo[2] + n.hi[2]) * 0.5};
-    // Radius: farthest box corner bounds the farthest triangle corner.
-    double r2 = 0;
-    for (int k = 0; k < 8; ++k) {
-      const Vec3 corner{(k & 1) ? n.hi[0] : n.lo[0], (k & 2) ? n.hi[1] : n.lo[1], (k & 4) ? n.hi[2] : n.lo[2]};
-      r2 = std::max(r2, length2(corner - wn.center));
-    }
-    wn.radius = std::sqrt(r2);
-  }
 }
 
 ClosestPoint MeshDistance::closest_point(const Vec3& p) const {
@@ -272,39 +294,8 @@ ClosestPoint MeshDistance::closest_point(const Vec3& p) const {
   return {length(p - q), q, tri_id_[i], f};
 }
 
-double MeshDistance::solid_angle_leaf(std::uint32_t node, const Vec3& p) const {
-  const TriangleBvh::Node& n = nodes_[node];
-  double s = 0;
-  for (std::uint32_t i = n.index; i < n.index + n.count; ++i) s += solid_angle(p, tri_[i].a, tri_[i].b, tri_[i].c);
-  return s;
-}
-
 double MeshDistance::winding_number(const Vec3& p) const {
-  double sum = 0;
-  std::uint32_t stack[256];
-  int sp = 0;
-  stack[sp++] = 0;
-  const double beta2 = options_.winding_beta * options_.winding_beta;
-  while (sp > 0) {
-    const std::uint32_t ni = stack[--sp];
-    const WindingNode& w = wind_[ni];
-    const Vec3 d = w.center - p;
-    const double dist2 = length2(d);
-    if (dist2 > beta2 * w.radius * w.radius) {
-      // Far field: the node's triangles act as one dipole of moment area_normal at center.
-      sum += dot(d, w.area_normal) / (dist2 * std::sqrt(dist2));
-      continue;
-    }
-    const TriangleBvh::Node& n = nodes_[ni];
-    if (n.leaf()) {
-      sum += solid_angle_leaf(ni, p);
-    } else {
-      FREP_ASSERT(sp < 254, "BVH deeper than the winding-number stack");
-      stack[sp++] = n.index;
-      stack[sp++] = n.index + 1;
-    }
-  }
-  return sum / kFourPi;
+  return mesh_detail::solid_angle_sum(wide_.data(), dipoles_.data(), packets_.data(), p) / kFourPi;
 }
 
 double MeshDistance::winding_number_exact(const Vec3& p) const {

@@ -8,6 +8,7 @@
 #define HWY_TARGET_INCLUDE "mesh/mesh_simd.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
+#include <hwy/contrib/math/math-inl.h>
 
 #include <cmath>
 #include <cstdint>
@@ -122,6 +123,78 @@ std::uint32_t NearestTriangle(const WideNode* nodes, const TriPacket* packets, c
   return best_tri;
 }
 
+// atan2 with the std::atan2 conventions on zeros (signed results, atan2(0, 0) = 0), built on
+// Highway's atan of the octant ratio min/max in [0, 1].
+HWY_INLINE V Atan2(V y, V x) {
+  const D d;
+  const V ax = hn::Abs(x), ay = hn::Abs(y), zero = hn::Zero(d);
+  const V hi = hn::Max(ax, ay);
+  V r = hn::Atan(d, hn::IfThenElseZero(hn::Gt(hi, zero), hn::Div(hn::Min(ax, ay), hi)));
+  r = hn::IfThenElse(hn::Gt(ay, ax), hn::Sub(hn::Set(d, 1.5707963267948966), r), r);
+  // x < 0, or x = -0 (std::atan2(+-0, -0) = +-pi).
+  r = hn::IfThenElse(hn::Lt(hn::CopySign(hn::Set(d, 1.0), x), zero), hn::Sub(hn::Set(d, 3.141592653589793), r), r);
+  return hn::CopySign(r, y);
+}
+
+// Signed solid angles of the lanes [j, j + Lanes) of a packet seen from p (Van Oosterom and
+// Strackee, as in mesh_distance.cpp), zero for padding lanes.
+HWY_INLINE V PacketSolidAngle(const TriPacket& t, std::size_t j, V px, V py, V pz) {
+  const D d;
+  const V ax = hn::Sub(hn::Load(d, t.a[0] + j), px), ay = hn::Sub(hn::Load(d, t.a[1] + j), py),
+          az = hn::Sub(hn::Load(d, t.a[2] + j), pz);
+  const V bx = hn::Sub(hn::Load(d, t.b[0] + j), px), by = hn::Sub(hn::Load(d, t.b[1] + j), py),
+          bz = hn::Sub(hn::Load(d, t.b[2] + j), pz);
+  const V cx = hn::Sub(hn::Load(d, t.c[0] + j), px), cy = hn::Sub(hn::Load(d, t.c[1] + j), py),
+          cz = hn::Sub(hn::Load(d, t.c[2] + j), pz);
+  const V la = hn::Sqrt(Dot(ax, ay, az, ax, ay, az)), lb = hn::Sqrt(Dot(bx, by, bz, bx, by, bz)),
+          lc = hn::Sqrt(Dot(cx, cy, cz, cx, cy, cz));
+  const V num = Dot(ax, ay, az, hn::Sub(hn::Mul(by, cz), hn::Mul(bz, cy)), hn::Sub(hn::Mul(bz, cx), hn::Mul(bx, cz)),
+                    hn::Sub(hn::Mul(bx, cy), hn::Mul(by, cx)));
+  const V den = hn::Add(hn::Add(hn::Add(hn::Mul(hn::Mul(la, lb), lc), hn::Mul(Dot(ax, ay, az, bx, by, bz), lc)),
+                                hn::Mul(Dot(bx, by, bz, cx, cy, cz), la)),
+                        hn::Mul(Dot(cx, cy, cz, ax, ay, az), lb));
+  return hn::Mul(hn::Mul(hn::Set(d, 2.0), Atan2(num, den)), hn::Load(d, t.real + j));
+}
+
+double SolidAngleSum(const WideNode* nodes, const WideDipoles* dipoles, const TriPacket* packets, const Vec3& p) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const V px = hn::Set(d, p.x), py = hn::Set(d, p.y), pz = hn::Set(d, p.z);
+  V sum = hn::Zero(d);
+  HWY_ALIGN double is_far[kWidth];
+  std::uint32_t stack[kWidth * 80];  // see NearestTriangle
+  int sp = 0;
+  stack[sp++] = 0;
+  while (sp > 0) {
+    const std::uint32_t ni = stack[--sp];
+    const WideNode& n = nodes[ni];
+    const WideDipoles& w = dipoles[ni];
+    for (std::size_t j = 0; j < kWidth; j += N) {
+      const V dx = hn::Sub(hn::Load(d, w.center[0] + j), px), dy = hn::Sub(hn::Load(d, w.center[1] + j), py),
+              dz = hn::Sub(hn::Load(d, w.center[2] + j), pz);
+      const V dist2 = Dot(dx, dy, dz, dx, dy, dz);
+      const auto far = hn::Gt(dist2, hn::Load(d, w.far2 + j));  // never for an empty slot (far2 = inf)
+      const V dip = hn::Div(Dot(dx, dy, dz, hn::Load(d, w.area_normal[0] + j), hn::Load(d, w.area_normal[1] + j),
+                                hn::Load(d, w.area_normal[2] + j)),
+                            hn::Mul(dist2, hn::Sqrt(dist2)));
+      sum = hn::Add(sum, hn::IfThenElseZero(far, dip));
+      hn::Store(hn::VecFromMask(d, far), d, is_far + j);
+    }
+    for (int j = 0; j < kWidth; ++j) {
+      if (is_far[j] != 0 || (n.child[j] == 0 && n.packets[j] == 0)) continue;  // dipole, or empty slot
+      if (n.child[j] >= 0) {
+        FREP_ASSERT(sp < int(sizeof stack / sizeof stack[0]), "BVH deeper than the winding-number stack");
+        stack[sp++] = static_cast<std::uint32_t>(n.child[j]);
+        continue;
+      }
+      for (std::uint32_t k = 0; k < n.packets[j]; ++k)
+        for (std::size_t l = 0; l < kWidth; l += N)
+          sum = hn::Add(sum, PacketSolidAngle(packets[~n.child[j] + k], l, px, py, pz));
+    }
+  }
+  return hn::GetLane(hn::SumOfLanes(d, sum));
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace frep::mesh_detail
 HWY_AFTER_NAMESPACE();
@@ -129,9 +202,14 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace frep::mesh_detail {
 HWY_EXPORT(NearestTriangle);
+HWY_EXPORT(SolidAngleSum);
 
 std::uint32_t nearest_triangle(const WideNode* nodes, const TriPacket* packets, const Vec3& p, double& d2) {
   return HWY_DYNAMIC_DISPATCH(NearestTriangle)(nodes, packets, p, d2);
+}
+
+double solid_angle_sum(const WideNode* nodes, const WideDipoles* dipoles, const TriPacket* packets, const Vec3& p) {
+  return HWY_DYNAMIC_DISPATCH(SolidAngleSum)(nodes, dipoles, packets, p);
 }
 
 }  // namespace frep::mesh_detail

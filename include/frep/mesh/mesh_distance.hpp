@@ -28,6 +28,13 @@ struct alignas(32) TriPacket {
   double inv_n2[kWidth];                            // 1 / |n|^2, zero if degenerate
   double inv_e2[3][kWidth];  // 1 / |edge k|^2 (edge k joins corners k and k+1), zero if a point
   std::uint32_t tri[kWidth];  // leaf-order triangle index
+  double real[kWidth];        // 1 for a triangle, 0 for padding (sums must not count it twice)
+};
+// Winding-number data of a wide node's children: far from a child, its triangles act as one
+// dipole (the area-weighted sum of their normals at their area-weighted centroid).
+struct alignas(32) WideDipoles {
+  double center[3][kWidth], area_normal[3][kWidth];
+  double far2[kWidth];  // (beta * radius)^2: the dipole is used beyond this squared distance
 };
 }  // namespace mesh_detail
 
@@ -79,24 +86,16 @@ class MeshDistance {
   struct Tri {
     Vec3 a, b, c;
   };
-  struct WindingNode {
-    Vec3 area_normal;  // sum of the triangles' area vectors (half the cross products)
-    Vec3 center;       // area-weighted centroid
-    double radius;     // distance from center to the farthest corner below the node
-  };
-  std::vector<TriangleBvh::Node> nodes_;
-  std::vector<mesh_detail::WideNode> wide_;    // closest-point queries
+  std::vector<mesh_detail::WideNode> wide_;        // the query hierarchy
+  std::vector<mesh_detail::WideDipoles> dipoles_;  // per wide node
   std::vector<mesh_detail::TriPacket> packets_;
   std::vector<Tri> tri_;                     // in BVH leaf order
   std::vector<std::uint32_t> tri_id_;        // leaf order -> mesh triangle index
-  std::vector<WindingNode> wind_;            // per BVH node
   std::vector<Vec3> face_normal_;            // per mesh triangle, unit (zero if degenerate)
   std::vector<Vec3> edge_normal_;            // per mesh triangle and edge (3 per triangle)
   std::vector<Vec3> vertex_normal_;          // per welded vertex
   std::vector<Triangle> welded_;             // per mesh triangle, welded vertex indices
   MeshDistanceOptions options_;
-
-  double solid_angle_leaf(std::uint32_t node, const Vec3& p) const;
 };
 
 // One-shot: signed distances at points (x, y, z columns), by the winding number or pseudonormals.
