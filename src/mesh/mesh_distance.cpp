@@ -1,11 +1,13 @@
 #include "frep/mesh/mesh_distance.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <thread>
 
 #include "frep/error.hpp"
 #include "frep/mesh/weld.hpp"
+#include "mesh/mesh_simd.hpp"
 
 namespace frep {
 namespace {
@@ -61,16 +63,6 @@ inline Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, con
   return f = Feature::Face, a + ab * v + ac * w;
 }
 
-inline double box_distance2(const TriangleBvh::Node& n, const Vec3& p) {
-  double d2 = 0;
-  for (int c = 0; c < 3; ++c) {
-    const double lo = n.lo[c], hi = n.hi[c];
-    const double d = p[c] < lo ? lo - p[c] : (p[c] > hi ? p[c] - hi : 0.0);
-    d2 += d * d;
-  }
-  return d2;
-}
-
 // Signed solid angle of triangle abc seen from p (Van Oosterom and Strackee), positive when p
 // is on the side opposite to the right-hand normal.
 inline double solid_angle(const Vec3& p, const Vec3& a0, const Vec3& b0, const Vec3& c0) {
@@ -80,6 +72,137 @@ inline double solid_angle(const Vec3& p, const Vec3& a0, const Vec3& b0, const V
   const double den = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb;
   return 2 * std::atan2(num, den);
 }
+
+// Winding-number data of a binary node: the triangles below act, from far away, as one dipole.
+struct Dipole {
+  Vec3 area_normal;  // sum of the triangles' area vectors (half the cross products)
+  Vec3 center;       // area-weighted centroid
+  double radius;     // distance from center to the farthest corner below the node
+};
+
+std::vector<Dipole> binary_dipoles(const std::vector<TriangleBvh::Node>& nodes,
+                                   const std::vector<std::array<Vec3, 3>>& corners) {
+  // Children before parents (children have larger indices).
+  std::vector<Dipole> dip(nodes.size(), Dipole{});
+  std::vector<double> node_area(nodes.size(), 0);
+  for (std::size_t ni = nodes.size(); ni-- > 0;) {
+    const TriangleBvh::Node& n = nodes[ni];
+    Dipole& wn = dip[ni];
+    Vec3 weighted;
+    double area = 0;
+    if (n.leaf()) {
+      for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
+        const auto& [ta, tb, tc] = corners[i];
+        const Vec3 an = cross(tb - ta, tc - ta) * 0.5;
+        const double a = length(an);
+        wn.area_normal += an;
+        weighted += (ta + tb + tc) * (a / 3.0);
+        area += a;
+      }
+    } else {
+      for (std::uint32_t ch : {n.index, n.index + 1}) {
+        wn.area_normal += dip[ch].area_normal;
+        weighted += dip[ch].center * node_area[ch];
+        area += node_area[ch];
+      }
+    }
+    node_area[ni] = area;
+    wn.center = area > 0 ? weighted / area : Vec3{(n.lo[0] + n.hi[0]) * 0.5, (n.lo[1] + n.hi[1]) * 0.5,
+                                                  (n.lo[2] + n.hi[2]) * 0.5};
+    // Radius: farthest box corner bounds the farthest triangle corner.
+    double r2 = 0;
+    for (int k = 0; k < 8; ++k) {
+      const Vec3 corner{(k & 1) ? n.hi[0] : n.lo[0], (k & 2) ? n.hi[1] : n.lo[1], (k & 4) ? n.hi[2] : n.lo[2]};
+      r2 = std::max(r2, length2(corner - wn.center));
+    }
+    wn.radius = std::sqrt(r2);
+  }
+  return dip;
+}
+
+// The 4-wide query hierarchy: each wide node takes the children of a binary node and keeps
+// opening its largest inner child (by surface area) until it has four. Leaves become packets of
+// four triangles (leaf order), the last lane repeated as padding.
+struct WideBuilder {
+  const std::vector<TriangleBvh::Node>& bin;
+  const std::vector<std::array<Vec3, 3>>& corners;  // per triangle, leaf order
+  const std::vector<Dipole>& dipole;                 // per binary node
+  double beta2;                                      // squared far-field ratio
+  std::vector<mesh_detail::WideNode>& wide;
+  std::vector<mesh_detail::WideDipoles>& dipoles;
+  std::vector<mesh_detail::TriPacket>& packets;
+
+  static double area(const TriangleBvh::Node& n) {
+    const double x = n.hi[0] - n.lo[0], y = n.hi[1] - n.lo[1], z = n.hi[2] - n.lo[2];
+    return x * y + y * z + z * x;
+  }
+
+  std::int32_t leaf(const TriangleBvh::Node& n) {
+    const auto first = static_cast<std::int32_t>(packets.size());
+    for (std::uint32_t base = 0; base < n.count; base += mesh_detail::kWidth) {
+      mesh_detail::TriPacket& p = packets.emplace_back();
+      for (int j = 0; j < mesh_detail::kWidth; ++j) {
+        const std::uint32_t i = n.index + std::min<std::uint32_t>(base + j, n.count - 1);
+        const auto& [a, b, c] = corners[i];
+        const Vec3 nn = cross(b - a, c - a), e[3] = {b - a, c - b, a - c};
+        const double n2 = length2(nn);
+        for (int k = 0; k < 3; ++k) {
+          p.a[k][j] = a[k], p.b[k][j] = b[k], p.c[k][j] = c[k];
+          p.n[k][j] = n2 > 0 ? nn[k] : 0;
+          p.inv_e2[k][j] = length2(e[k]) > 0 ? 1 / length2(e[k]) : 0;
+        }
+        p.inv_n2[j] = n2 > 0 ? 1 / n2 : 0;
+        p.tri[j] = i;
+        p.real[j] = base + j < n.count ? 1 : 0;
+      }
+    }
+    return ~first;
+  }
+
+  // Builds the wide node over binary node `root`'s children (or over `root` alone if a leaf).
+  std::uint32_t node(std::uint32_t root) {
+    std::vector<std::uint32_t> kids;
+    if (bin[root].leaf()) kids = {root};
+    else kids = {bin[root].index, bin[root].index + 1};
+    while (kids.size() < std::size_t(mesh_detail::kWidth)) {
+      int open = -1;
+      for (std::size_t k = 0; k < kids.size(); ++k)
+        if (!bin[kids[k]].leaf() && (open < 0 || area(bin[kids[k]]) > area(bin[kids[open]]))) open = int(k);
+      if (open < 0) break;
+      const std::uint32_t c = bin[kids[open]].index;
+      kids[open] = c;
+      kids.push_back(c + 1);
+    }
+    const auto w = static_cast<std::uint32_t>(wide.size());
+    wide.emplace_back();
+    dipoles.emplace_back();
+    for (int j = 0; j < mesh_detail::kWidth; ++j) {
+      std::int32_t child = 0;  // an empty slot: child 0 (the root, never a child) without packets
+      std::uint32_t count = 0;
+      double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+      Dipole dip{{}, {}, INFINITY};
+      if (j < int(kids.size())) {
+        const TriangleBvh::Node& n = bin[kids[j]];
+        dip = dipole[kids[j]];
+        for (int k = 0; k < 3; ++k) lo[k] = n.lo[k], hi[k] = n.hi[k];
+        if (n.leaf()) {
+          child = leaf(n);
+          count = static_cast<std::uint32_t>(packets.size()) - ~child;
+        } else {
+          child = static_cast<std::int32_t>(node(kids[j]));
+        }
+      }
+      mesh_detail::WideNode& wn = wide[w];  // after the recursion: `wide` may have grown
+      for (int k = 0; k < 3; ++k) wn.lo[k][j] = lo[k], wn.hi[k][j] = hi[k];
+      wn.child[j] = child;
+      wn.packets[j] = count;
+      mesh_detail::WideDipoles& wd = dipoles[w];
+      for (int k = 0; k < 3; ++k) wd.center[k][j] = dip.center[k], wd.area_normal[k][j] = dip.area_normal[k];
+      wd.far2[j] = beta2 * dip.radius * dip.radius;
+    }
+    return w;
+  }
+};
 
 template <class F>
 void parallel_for(std::size_t n, unsigned threads, F&& f) {
@@ -110,16 +233,16 @@ MeshDistance::MeshDistance(const TriMesh& mesh, const MeshDistanceOptions& optio
   BvhOptions bo;
   bo.max_leaf_size = options.max_leaf_size;
   const TriangleBvh bvh(m, bo);
-  nodes_ = bvh.nodes();
   tri_id_ = bvh.order();
   tri_.resize(nt);
+  std::vector<std::array<Vec3, 3>> corners(nt);
   for (std::size_t i = 0; i < nt; ++i) {
     const std::uint32_t t = tri_id_[i];
-    const Vec3 a = m.corner(t, 0), b = m.corner(t, 1), c = m.corner(t, 2);
-    const Vec3 n = cross(b - a, c - a);
-    const double l = length(n);
-    tri_[i] = {a, b, c, l > 0 ? n / l : Vec3{}};
+    corners[i] = {m.corner(t, 0), m.corner(t, 1), m.corner(t, 2)};
+    tri_[i] = {corners[i][0], corners[i][1], corners[i][2]};
   }
+  const double beta2 = options.winding_beta * options.winding_beta;
+  WideBuilder{bvh.nodes(), corners, binary_dipoles(bvh.nodes(), corners), beta2, wide_, dipoles_, packets_}.node(0);
 
   // Pseudonormals: unit face normals, edge normals as the sum over the edge's triangles, vertex
   // normals weighted by the corner angles.
@@ -157,118 +280,22 @@ MeshDistance::MeshDistance(const TriMesh& mesh, const MeshDistanceOptions& optio
     }
   }
 
-  // Winding-number data per node, children before parents (children have larger indices).
-  wind_.assign(nodes_.size(), WindingNode{});
-  std::vector<double> node_area(nodes_.size(), 0);
-  for (std::size_t ni = nodes_.size(); ni-- > 0;) {
-    const TriangleBvh::Node& n = nodes_[ni];
-    WindingNode& wn = wind_[ni];
-    Vec3 weighted;
-    double area = 0;
-    if (n.leaf()) {
-      for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
-        const Tri& t = tri_[i];
-        const Vec3 an = cross(t.b - t.a, t.c - t.a) * 0.5;
-        const double a = length(an);
-        wn.area_normal += an;
-        weighted += (t.a + t.b + t.c) * (a / 3.0);
-        area += a;
-      }
-    } else {
-      for (std::uint32_t ch : {n.index, n.index + 1}) {
-        wn.area_normal += wind_[ch].area_normal;
-        weighted += wind_[ch].center * node_area[ch];
-        area += node_area[ch];
-      }
-    }
-    node_area[ni] = area;
-    wn.center = area > 0 ? weighted / area : Vec3{(n.lo[0] + n.hi[0]) * 0.5, (n.lo[1] + n.hi[1]) * 0.5,
-                                                  (n.lo[2] + n.hi[2]) * 0.5};
-    // Radius: farthest box corner bounds the farthest triangle corner.
-    double r2 = 0;
-    for (int k = 0; k < 8; ++k) {
-      const Vec3 corner{(k & 1) ? n.hi[0] : n.lo[0], (k & 2) ? n.hi[1] : n.lo[1], (k & 4) ? n.hi[2] : n.lo[2]};
-      r2 = std::max(r2, length2(corner - wn.center));
-    }
-    wn.radius = std::sqrt(r2);
-  }
 }
 
 ClosestPoint MeshDistance::closest_point(const Vec3& p) const {
-  double best = INFINITY;
-  std::uint32_t best_i = 0;
-  Vec3 best_q;
-  Feature best_f = Feature::Face;
-  struct Entry {
-    std::uint32_t node;
-    double d2;
-  };
-  Entry stack[256];  // the BVH depth is at most ~72 (see bvh.cpp)
-  int sp = 0;
-  stack[sp++] = {0, box_distance2(nodes_[0], p)};
-  while (sp > 0) {
-    const Entry e = stack[--sp];
-    if (e.d2 >= best) continue;
-    const TriangleBvh::Node& n = nodes_[e.node];
-    if (n.leaf()) {
-      for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
-        Feature f;
-        const Tri& t = tri_[i];
-        const double h = dot(p - t.a, t.n);
-        if (h * h >= best) continue;  // the plane alone is already farther
-        const Vec3 q = closest_on_triangle(p, t.a, t.b, t.c, f);
-        const double d2 = length2(p - q);
-        if (d2 < best) best = d2, best_i = i, best_q = q, best_f = f;
-      }
-      continue;
-    }
-    const double dl = box_distance2(nodes_[n.index], p), dr = box_distance2(nodes_[n.index + 1], p);
-    // Nearer child on top of the stack, visited first; the stack depth is bounded by the tree depth.
-    if (dl <= dr) {
-      if (dr < best && sp < 255) stack[sp++] = {n.index + 1, dr};
-      if (dl < best && sp < 255) stack[sp++] = {n.index, dl};
-    } else {
-      if (dl < best && sp < 255) stack[sp++] = {n.index, dl};
-      if (dr < best && sp < 255) stack[sp++] = {n.index + 1, dr};
-    }
-    FREP_ASSERT(sp < 255, "BVH deeper than the closest-point stack");
-  }
-  return {std::sqrt(best), best_q, tri_id_[best_i], best_f};
-}
-
-double MeshDistance::solid_angle_leaf(std::uint32_t node, const Vec3& p) const {
-  const TriangleBvh::Node& n = nodes_[node];
-  double s = 0;
-  for (std::uint32_t i = n.index; i < n.index + n.count; ++i) s += solid_angle(p, tri_[i].a, tri_[i].b, tri_[i].c);
-  return s;
+  // The SIMD search finds the nearest triangle; its closest point and feature come from the
+  // scalar region test (the pseudonormal sign needs the feature).
+  double d2 = INFINITY;
+  const std::uint32_t i = mesh_detail::nearest_triangle(wide_.data(), packets_.data(), p, d2);
+  if (i >= tri_.size()) return {NAN, p, 0, Feature::Face};  // a NaN coordinate: nothing is nearer than infinity
+  Feature f;
+  const Tri& t = tri_[i];
+  const Vec3 q = closest_on_triangle(p, t.a, t.b, t.c, f);
+  return {length(p - q), q, tri_id_[i], f};
 }
 
 double MeshDistance::winding_number(const Vec3& p) const {
-  double sum = 0;
-  std::uint32_t stack[256];
-  int sp = 0;
-  stack[sp++] = 0;
-  const double beta2 = options_.winding_beta * options_.winding_beta;
-  while (sp > 0) {
-    const std::uint32_t ni = stack[--sp];
-    const WindingNode& w = wind_[ni];
-    const Vec3 d = w.center - p;
-    const double dist2 = length2(d);
-    if (dist2 > beta2 * w.radius * w.radius) {
-      // Far field: the node's triangles act as one dipole of moment area_normal at center.
-      sum += dot(d, w.area_normal) / (dist2 * std::sqrt(dist2));
-      continue;
-    }
-    const TriangleBvh::Node& n = nodes_[ni];
-    if (n.leaf()) {
-      sum += solid_angle_leaf(ni, p);
-    } else {
-      FREP_ASSERT(sp < 254, "BVH deeper than the winding-number stack");
-      stack[sp++] = n.index;
-      stack[sp++] = n.index + 1;
-    }
-  }
-  return sum / kFourPi;
+  return mesh_detail::solid_angle_sum(wide_.data(), dipoles_.data(), packets_.data(), p) / kFourPi;
 }
 
 double MeshDistance::winding_number_exact(const Vec3& p) const {

@@ -12,6 +12,32 @@
 
 namespace frep {
 
+namespace mesh_detail {
+// The query structure, 4-wide so one SIMD register of doubles (AVX2; two on SSE4) tests four
+// boxes or four triangles at once. Built from the binary BVH by pulling grandchildren up.
+constexpr int kWidth = 4;
+struct alignas(32) WideNode {
+  double lo[3][kWidth], hi[3][kWidth];  // child boxes; an empty slot has lo = +inf, hi = -inf
+  std::int32_t child[kWidth];           // >= 0: inner node; < 0: leaf, packets ~child, ~child + 1, ...
+  std::uint32_t packets[kWidth];        // number of packets of a leaf child
+};
+// Four triangles, structure of arrays. Padding lanes repeat the packet's last triangle.
+struct alignas(32) TriPacket {
+  double a[3][kWidth], b[3][kWidth], c[3][kWidth];  // corners
+  double n[3][kWidth];                              // cross(b - a, c - a); zero if degenerate
+  double inv_n2[kWidth];                            // 1 / |n|^2, zero if degenerate
+  double inv_e2[3][kWidth];  // 1 / |edge k|^2 (edge k joins corners k and k+1), zero if a point
+  std::uint32_t tri[kWidth];  // leaf-order triangle index
+  double real[kWidth];        // 1 for a triangle, 0 for padding (sums must not count it twice)
+};
+// Winding-number data of a wide node's children: far from a child, its triangles act as one
+// dipole (the area-weighted sum of their normals at their area-weighted centroid).
+struct alignas(32) WideDipoles {
+  double center[3][kWidth], area_normal[3][kWidth];
+  double far2[kWidth];  // (beta * radius)^2: the dipole is used beyond this squared distance
+};
+}  // namespace mesh_detail
+
 enum class SignMethod {
   WindingNumber,  // inside where the generalized winding number exceeds 1/2
   Pseudonormal,   // side of the closest feature's angle-weighted pseudonormal (Baerentzen-Aanaes)
@@ -59,24 +85,17 @@ class MeshDistance {
  private:
   struct Tri {
     Vec3 a, b, c;
-    Vec3 n;  // unit normal (zero if degenerate): |(p - a) . n| is a cheap lower bound
   };
-  struct WindingNode {
-    Vec3 area_normal;  // sum of the triangles' area vectors (half the cross products)
-    Vec3 center;       // area-weighted centroid
-    double radius;     // distance from center to the farthest corner below the node
-  };
-  std::vector<TriangleBvh::Node> nodes_;
+  std::vector<mesh_detail::WideNode> wide_;        // the query hierarchy
+  std::vector<mesh_detail::WideDipoles> dipoles_;  // per wide node
+  std::vector<mesh_detail::TriPacket> packets_;
   std::vector<Tri> tri_;                     // in BVH leaf order
   std::vector<std::uint32_t> tri_id_;        // leaf order -> mesh triangle index
-  std::vector<WindingNode> wind_;            // per BVH node
   std::vector<Vec3> face_normal_;            // per mesh triangle, unit (zero if degenerate)
   std::vector<Vec3> edge_normal_;            // per mesh triangle and edge (3 per triangle)
   std::vector<Vec3> vertex_normal_;          // per welded vertex
   std::vector<Triangle> welded_;             // per mesh triangle, welded vertex indices
   MeshDistanceOptions options_;
-
-  double solid_angle_leaf(std::uint32_t node, const Vec3& p) const;
 };
 
 // One-shot: signed distances at points (x, y, z columns), by the winding number or pseudonormals.

@@ -1,0 +1,216 @@
+// SIMD kernels of the mesh-distance queries. Highway compiles this file once per instruction set
+// and picks the best one for the CPU at run time. Everything is double precision: the closest
+// point is the exact oracle other tests compare against.
+#ifndef HWY_DISABLED_TARGETS
+#define HWY_DISABLED_TARGETS (HWY_SSSE3 | HWY_AVX3_DL)  // fewer copies, faster builds
+#endif
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "mesh/mesh_simd.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+#include <hwy/contrib/math/math-inl.h>
+
+#include <cmath>
+#include <cstdint>
+
+#include "frep/error.hpp"
+#include "mesh/mesh_simd.hpp"
+
+HWY_BEFORE_NAMESPACE();
+namespace frep::mesh_detail {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// Four lanes where the target has them (AVX2, AVX-512), else two vectors of two (SSE4).
+using D = hn::CappedTag<double, kWidth>;
+using V = hn::Vec<D>;
+
+HWY_INLINE V Dot(V ax, V ay, V az, V bx, V by, V bz) {
+  return hn::Add(hn::Add(hn::Mul(ax, bx), hn::Mul(ay, by)), hn::Mul(az, bz));
+}
+
+// Squared distance from p to the segment from corner (ux, uy, uz) = p - v along edge e.
+HWY_INLINE V SegmentDistance2(V ux, V uy, V uz, V ex, V ey, V ez, V inv_e2) {
+  const D d;
+  const V t = hn::Min(hn::Max(hn::Mul(Dot(ux, uy, uz, ex, ey, ez), inv_e2), hn::Zero(d)), hn::Set(d, 1.0));
+  const V wx = hn::Sub(ux, hn::Mul(ex, t)), wy = hn::Sub(uy, hn::Mul(ey, t)), wz = hn::Sub(uz, hn::Mul(ez, t));
+  return Dot(wx, wy, wz, wx, wy, wz);
+}
+
+// Side of edge e (from corner u = p - v) within the triangle's plane: > 0 strictly inside.
+HWY_INLINE V EdgeSide(V ux, V uy, V uz, V ex, V ey, V ez, V nx, V ny, V nz) {
+  // (p - v) . (n x e): the sign of ((q - v) x e') . n for the projection q of p, branch-free.
+  const V mx = hn::Sub(hn::Mul(ny, ez), hn::Mul(nz, ey));
+  const V my = hn::Sub(hn::Mul(nz, ex), hn::Mul(nx, ez));
+  const V mz = hn::Sub(hn::Mul(nx, ey), hn::Mul(ny, ex));
+  return Dot(ux, uy, uz, mx, my, mz);
+}
+
+// Squared distances from p to the lanes [j, j + Lanes) of a packet: the plane distance when p
+// projects strictly inside the triangle, else the nearest of the three edges. Branch-free, so
+// degenerate triangles (n = 0: never "inside") need no special case.
+HWY_INLINE V PacketDistance2(const TriPacket& t, std::size_t j, V px, V py, V pz) {
+  const D d;
+  const V ax = hn::Load(d, t.a[0] + j), ay = hn::Load(d, t.a[1] + j), az = hn::Load(d, t.a[2] + j);
+  const V bx = hn::Load(d, t.b[0] + j), by = hn::Load(d, t.b[1] + j), bz = hn::Load(d, t.b[2] + j);
+  const V cx = hn::Load(d, t.c[0] + j), cy = hn::Load(d, t.c[1] + j), cz = hn::Load(d, t.c[2] + j);
+  const V uax = hn::Sub(px, ax), uay = hn::Sub(py, ay), uaz = hn::Sub(pz, az);
+  const V ubx = hn::Sub(px, bx), uby = hn::Sub(py, by), ubz = hn::Sub(pz, bz);
+  const V ucx = hn::Sub(px, cx), ucy = hn::Sub(py, cy), ucz = hn::Sub(pz, cz);
+  const V e0x = hn::Sub(bx, ax), e0y = hn::Sub(by, ay), e0z = hn::Sub(bz, az);
+  const V e1x = hn::Sub(cx, bx), e1y = hn::Sub(cy, by), e1z = hn::Sub(cz, bz);
+  const V e2x = hn::Sub(ax, cx), e2y = hn::Sub(ay, cy), e2z = hn::Sub(az, cz);
+  const V edge = hn::Min(hn::Min(SegmentDistance2(uax, uay, uaz, e0x, e0y, e0z, hn::Load(d, t.inv_e2[0] + j)),
+                                 SegmentDistance2(ubx, uby, ubz, e1x, e1y, e1z, hn::Load(d, t.inv_e2[1] + j))),
+                         SegmentDistance2(ucx, ucy, ucz, e2x, e2y, e2z, hn::Load(d, t.inv_e2[2] + j)));
+  const V nx = hn::Load(d, t.n[0] + j), ny = hn::Load(d, t.n[1] + j), nz = hn::Load(d, t.n[2] + j);
+  const V h = Dot(uax, uay, uaz, nx, ny, nz);
+  const V face = hn::Mul(hn::Mul(h, h), hn::Load(d, t.inv_n2 + j));
+  const V zero = hn::Zero(d);
+  const auto inside = hn::And(hn::And(hn::Gt(EdgeSide(uax, uay, uaz, e0x, e0y, e0z, nx, ny, nz), zero),
+                                      hn::Gt(EdgeSide(ubx, uby, ubz, e1x, e1y, e1z, nx, ny, nz), zero)),
+                              hn::Gt(EdgeSide(ucx, ucy, ucz, e2x, e2y, e2z, nx, ny, nz), zero));
+  return hn::IfThenElse(inside, face, edge);
+}
+
+std::uint32_t NearestTriangle(const WideNode* nodes, const TriPacket* packets, const Vec3& p, double& best) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const V px = hn::Set(d, p.x), py = hn::Set(d, p.y), pz = hn::Set(d, p.z), zero = hn::Zero(d);
+  HWY_ALIGN double dist[kWidth];
+  std::uint32_t best_tri = UINT32_MAX;
+  struct Entry {
+    std::int32_t child;
+    std::uint32_t packets;
+    double d2;
+  };
+  // Depth-first, nearer boxes first; each node pushes at most kWidth entries and the wide tree
+  // is no deeper than the binary one (at most ~72 levels, see bvh.cpp).
+  Entry stack[kWidth * 80];
+  int sp = 0;
+  stack[sp++] = {0, 0, 0.0};
+  while (sp > 0) {
+    const Entry e = stack[--sp];
+    if (!(e.d2 < best)) continue;
+    if (e.child < 0) {
+      for (std::uint32_t k = 0; k < e.packets; ++k) {
+        const TriPacket& t = packets[~e.child + k];
+        for (std::size_t j = 0; j < kWidth; j += N) hn::Store(PacketDistance2(t, j, px, py, pz), d, dist + j);
+        for (int j = 0; j < kWidth; ++j)
+          if (dist[j] < best) best = dist[j], best_tri = t.tri[j];
+      }
+      continue;
+    }
+    const WideNode& n = nodes[e.child];
+    for (std::size_t j = 0; j < kWidth; j += N) {
+      // Per axis max(lo - p, p - hi, 0): the gap to the box (infinite for an empty slot).
+      const V dx = hn::Max(hn::Max(hn::Sub(hn::Load(d, n.lo[0] + j), px), hn::Sub(px, hn::Load(d, n.hi[0] + j))), zero);
+      const V dy = hn::Max(hn::Max(hn::Sub(hn::Load(d, n.lo[1] + j), py), hn::Sub(py, hn::Load(d, n.hi[1] + j))), zero);
+      const V dz = hn::Max(hn::Max(hn::Sub(hn::Load(d, n.lo[2] + j), pz), hn::Sub(pz, hn::Load(d, n.hi[2] + j))), zero);
+      hn::Store(Dot(dx, dy, dz, dx, dy, dz), d, dist + j);
+    }
+    // Push the children within reach, farthest first so the nearest is visited next.
+    int order[kWidth], m = 0;
+    for (int j = 0; j < kWidth; ++j) {
+      if (!(dist[j] < best)) continue;
+      int k = m++;
+      for (; k > 0 && dist[order[k - 1]] < dist[j]; --k) order[k] = order[k - 1];
+      order[k] = j;
+    }
+    FREP_ASSERT(sp + m <= int(sizeof stack / sizeof stack[0]), "BVH deeper than the closest-point stack");
+    for (int k = 0; k < m; ++k) stack[sp++] = {n.child[order[k]], n.packets[order[k]], dist[order[k]]};
+  }
+  return best_tri;
+}
+
+// atan2 with the std::atan2 conventions on zeros (signed results, atan2(0, 0) = 0), built on
+// Highway's atan of the octant ratio min/max in [0, 1].
+HWY_INLINE V Atan2(V y, V x) {
+  const D d;
+  const V ax = hn::Abs(x), ay = hn::Abs(y), zero = hn::Zero(d);
+  const V hi = hn::Max(ax, ay);
+  V r = hn::Atan(d, hn::IfThenElseZero(hn::Gt(hi, zero), hn::Div(hn::Min(ax, ay), hi)));
+  r = hn::IfThenElse(hn::Gt(ay, ax), hn::Sub(hn::Set(d, 1.5707963267948966), r), r);
+  // x < 0, or x = -0 (std::atan2(+-0, -0) = +-pi).
+  r = hn::IfThenElse(hn::Lt(hn::CopySign(hn::Set(d, 1.0), x), zero), hn::Sub(hn::Set(d, 3.141592653589793), r), r);
+  return hn::CopySign(r, y);
+}
+
+// Signed solid angles of the lanes [j, j + Lanes) of a packet seen from p (Van Oosterom and
+// Strackee, as in mesh_distance.cpp), zero for padding lanes.
+HWY_INLINE V PacketSolidAngle(const TriPacket& t, std::size_t j, V px, V py, V pz) {
+  const D d;
+  const V ax = hn::Sub(hn::Load(d, t.a[0] + j), px), ay = hn::Sub(hn::Load(d, t.a[1] + j), py),
+          az = hn::Sub(hn::Load(d, t.a[2] + j), pz);
+  const V bx = hn::Sub(hn::Load(d, t.b[0] + j), px), by = hn::Sub(hn::Load(d, t.b[1] + j), py),
+          bz = hn::Sub(hn::Load(d, t.b[2] + j), pz);
+  const V cx = hn::Sub(hn::Load(d, t.c[0] + j), px), cy = hn::Sub(hn::Load(d, t.c[1] + j), py),
+          cz = hn::Sub(hn::Load(d, t.c[2] + j), pz);
+  const V la = hn::Sqrt(Dot(ax, ay, az, ax, ay, az)), lb = hn::Sqrt(Dot(bx, by, bz, bx, by, bz)),
+          lc = hn::Sqrt(Dot(cx, cy, cz, cx, cy, cz));
+  const V num = Dot(ax, ay, az, hn::Sub(hn::Mul(by, cz), hn::Mul(bz, cy)), hn::Sub(hn::Mul(bz, cx), hn::Mul(bx, cz)),
+                    hn::Sub(hn::Mul(bx, cy), hn::Mul(by, cx)));
+  const V den = hn::Add(hn::Add(hn::Add(hn::Mul(hn::Mul(la, lb), lc), hn::Mul(Dot(ax, ay, az, bx, by, bz), lc)),
+                                hn::Mul(Dot(bx, by, bz, cx, cy, cz), la)),
+                        hn::Mul(Dot(cx, cy, cz, ax, ay, az), lb));
+  return hn::Mul(hn::Mul(hn::Set(d, 2.0), Atan2(num, den)), hn::Load(d, t.real + j));
+}
+
+double SolidAngleSum(const WideNode* nodes, const WideDipoles* dipoles, const TriPacket* packets, const Vec3& p) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  const V px = hn::Set(d, p.x), py = hn::Set(d, p.y), pz = hn::Set(d, p.z);
+  V sum = hn::Zero(d);
+  HWY_ALIGN double is_far[kWidth];
+  std::uint32_t stack[kWidth * 80];  // see NearestTriangle
+  int sp = 0;
+  stack[sp++] = 0;
+  while (sp > 0) {
+    const std::uint32_t ni = stack[--sp];
+    const WideNode& n = nodes[ni];
+    const WideDipoles& w = dipoles[ni];
+    for (std::size_t j = 0; j < kWidth; j += N) {
+      const V dx = hn::Sub(hn::Load(d, w.center[0] + j), px), dy = hn::Sub(hn::Load(d, w.center[1] + j), py),
+              dz = hn::Sub(hn::Load(d, w.center[2] + j), pz);
+      const V dist2 = Dot(dx, dy, dz, dx, dy, dz);
+      const auto far = hn::Gt(dist2, hn::Load(d, w.far2 + j));  // never for an empty slot (far2 = inf)
+      const V dip = hn::Div(Dot(dx, dy, dz, hn::Load(d, w.area_normal[0] + j), hn::Load(d, w.area_normal[1] + j),
+                                hn::Load(d, w.area_normal[2] + j)),
+                            hn::Mul(dist2, hn::Sqrt(dist2)));
+      sum = hn::Add(sum, hn::IfThenElseZero(far, dip));
+      hn::Store(hn::VecFromMask(d, far), d, is_far + j);
+    }
+    for (int j = 0; j < kWidth; ++j) {
+      if (is_far[j] != 0 || (n.child[j] == 0 && n.packets[j] == 0)) continue;  // dipole, or empty slot
+      if (n.child[j] >= 0) {
+        FREP_ASSERT(sp < int(sizeof stack / sizeof stack[0]), "BVH deeper than the winding-number stack");
+        stack[sp++] = static_cast<std::uint32_t>(n.child[j]);
+        continue;
+      }
+      for (std::uint32_t k = 0; k < n.packets[j]; ++k)
+        for (std::size_t l = 0; l < kWidth; l += N)
+          sum = hn::Add(sum, PacketSolidAngle(packets[~n.child[j] + k], l, px, py, pz));
+    }
+  }
+  return hn::GetLane(hn::SumOfLanes(d, sum));
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace frep::mesh_detail
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace frep::mesh_detail {
+HWY_EXPORT(NearestTriangle);
+HWY_EXPORT(SolidAngleSum);
+
+std::uint32_t nearest_triangle(const WideNode* nodes, const TriPacket* packets, const Vec3& p, double& d2) {
+  return HWY_DYNAMIC_DISPATCH(NearestTriangle)(nodes, packets, p, d2);
+}
+
+double solid_angle_sum(const WideNode* nodes, const WideDipoles* dipoles, const TriPacket* packets, const Vec3& p) {
+  return HWY_DYNAMIC_DISPATCH(SolidAngleSum)(nodes, dipoles, packets, p);
+}
+
+}  // namespace frep::mesh_detail
+#endif  // HWY_ONCE
