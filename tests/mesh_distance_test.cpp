@@ -198,6 +198,16 @@ TEST(MeshCli, CheckAndSdf) {
   out = run(std::string(FREP_CLI_PATH) + " sdf " + good + " -p " + pts, st);
   EXPECT_EQ(st, 1);
   EXPECT_NE(out.find("frep_cli_pts.txt:2: bad number 'five'"), std::string::npos) << out;
+  // A distance to a non-finite point means nothing: an input error naming the line.
+  { std::ofstream(pts) << "1 2 3\n4 nan 6\n"; }
+  out = run(std::string(FREP_CLI_PATH) + " sdf " + good + " -p " + pts, st);
+  EXPECT_EQ(st, 1);
+  EXPECT_NE(out.find("frep_cli_pts.txt:2: coordinate 'nan' is not a finite number"), std::string::npos) << out;
+  // Usage errors exit 2.
+  run(std::string(FREP_CLI_PATH) + " sdf " + good + " -p " + pts + " --weld-tolerance nan", st);
+  EXPECT_EQ(st, 2);
+  run(std::string(FREP_CLI_PATH) + " sdf " + good + " -p " + pts + " --threads 100000", st);
+  EXPECT_EQ(st, 2);
   for (const std::string& f : {good, bad, pts}) std::remove(f.c_str());
 }
 

@@ -228,3 +228,50 @@ TEST(MeshIo, EveryFileInSharedDataReads) {
 
 }  // namespace
 }  // namespace frep
+
+namespace frep {
+namespace {
+
+// Regressions from a review of the readers.
+TEST(MeshIoRegression, Utf8ByteOrderMarkBeforeTextFormats) {
+  const std::string bom = "\xEF\xBB\xBF";
+  const std::string stl = bom + "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+                                "endloop\nendfacet\nendsolid t\n";
+  EXPECT_EQ(read_mesh_from_memory(stl, "bom.stl").num_triangles(), 1u);
+  EXPECT_EQ(read_mesh_from_memory(bom + "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "bom.obj").num_triangles(), 1u);
+}
+
+TEST(MeshIoRegression, PlyHeaderToleratesTrailingBlanksAndReportsTheRightLine) {
+  const std::string head =
+      "ply \nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  EXPECT_EQ(read_mesh_from_memory(head + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "t.ply").num_triangles(), 1u);
+  // The NaN is the first value of line 11; the error must say line 11, not the line before.
+  const InputError e = expect_input_error(
+      [&] { read_mesh_from_memory(head + "0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n", "t.ply"); }, "not a finite number");
+  EXPECT_EQ(e.line(), 11u);
+}
+
+TEST(MeshIoRegression, PlyTriangleStripsRestartOnUnsignedMinusOne) {
+  const std::string text =
+      "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+      "element tristrips 1\nproperty list int uint vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n1 1 0\n2 2 0\n"
+      "7 0 1 2 4294967295 1 3 2\n";
+  EXPECT_EQ(read_mesh_from_memory(text, "s.ply").num_triangles(), 2u);
+}
+
+TEST(MeshIoRegression, StlWriterRefusesWhatSinglePrecisionCannotHoldAndEmptyMeshes) {
+  TriMesh big = test::make_box({-1, -1, -1}, {1e300, 1, 1});
+  expect_input_error([&] { write_mesh_to_string(big, MeshFormat::Stl, false); }, "single precision");
+  EXPECT_NO_THROW(write_mesh_to_string(big, MeshFormat::Obj, false));  // OBJ and PLY keep doubles
+  TriMesh empty;
+  expect_input_error([&] { write_mesh_to_string(empty, MeshFormat::Ply, false); }, "no triangles");
+}
+
+TEST(MeshIoRegression, DevicesAreNotReadWhole) {
+  expect_input_error([] { read_mesh("/dev/zero"); }, "not a regular file");
+}
+
+}  // namespace
+}  // namespace frep

@@ -28,12 +28,13 @@ void register_sdf(CLI::App& app) {
       ->check(CLI::IsMember({"winding", "pseudonormal"}));
   cmd->add_flag("--unsigned", a->unsigned_only, "Print unsigned distances");
   cmd->add_option("--weld-tolerance", a->weld_tolerance, "Merge vertices closer than this (default 0: exact)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_non_negative());
   cmd->add_option("--digits", a->digits, "Significant digits printed (default 9, 17 round-trips doubles)")
       ->check(CLI::Range(1, 17));
-  cmd->add_option("--threads", a->threads, "Worker threads (default: all cores)");
+  cmd->add_option("--threads", a->threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0u, 1024u));
   cmd->callback([a] {
-    const PointColumns<double> p = parse_points_f64(read_points_text(a->points), points_source_name(a->points));
+    const PointColumns<double> p =
+        parse_points_f64(read_points_text(a->points), points_source_name(a->points), /*require_finite=*/true);
     MeshDistanceOptions opt;
     opt.weld_tolerance = a->weld_tolerance;
     const MeshDistance md(read_mesh(a->file), opt);

@@ -2,8 +2,28 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <string>
 
 namespace frep::cli {
+
+// A CLI11 check for tolerances: a finite number >= 0 (CLI::NonNegativeNumber lets NaN through).
+inline CLI::Validator finite_non_negative() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        double v = 0;
+        try {
+          std::size_t used = 0;
+          v = std::stod(s, &used);
+          if (used != s.size()) return "'" + s + "' is not a number";
+        } catch (const std::exception&) {
+          return "'" + s + "' is not a number";
+        }
+        if (!(v >= 0) || !std::isfinite(v)) return "must be a finite number >= 0, got '" + s + "'";
+        return "";
+      },
+      "FINITE>=0");
+}
 
 void register_info(CLI::App& app);
 void register_eval(CLI::App& app);

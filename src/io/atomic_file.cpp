@@ -50,6 +50,8 @@ std::string read_file(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw InputError(path, 0, "is a directory, not a file");
+  // Devices such as /dev/zero never end: only regular files are read whole.
+  if (fs::exists(path, ec) && !fs::is_regular_file(path, ec)) throw InputError(path, 0, "is not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, std::string("cannot open: ") + std::strerror(errno));
   std::ostringstream ss;

@@ -1,5 +1,6 @@
 #include "frep/io/points.hpp"
 
+#include <cmath>
 #include <iostream>
 #include <iterator>
 
@@ -11,7 +12,7 @@ namespace frep {
 namespace {
 
 template <class T>
-PointColumns<T> parse(std::string_view text, const std::string& name) {
+PointColumns<T> parse(std::string_view text, const std::string& name, bool require_finite) {
   PointColumns<T> p;
   std::size_t pos = 0;
   std::uint64_t line_no = 0;
@@ -35,6 +36,8 @@ PointColumns<T> parse(std::string_view text, const std::string& name) {
       if (n == 3) throw InputError(name, line_no, "expected 2 or 3 numbers per line, got more");
       if (!parse_real(tok, v[n]))
         throw InputError(name, line_no, "bad number '" + std::string(tok.substr(0, 40)) + "'");
+      if (require_finite && !std::isfinite(v[n]))
+        throw InputError(name, line_no, "coordinate '" + std::string(tok.substr(0, 40)) + "' is not a finite number");
       ++n;
       i = j;
     }
@@ -49,8 +52,12 @@ PointColumns<T> parse(std::string_view text, const std::string& name) {
 
 }  // namespace
 
-PointColumns<float> parse_points_f32(std::string_view text, const std::string& name) { return parse<float>(text, name); }
-PointColumns<double> parse_points_f64(std::string_view text, const std::string& name) { return parse<double>(text, name); }
+PointColumns<float> parse_points_f32(std::string_view text, const std::string& name, bool require_finite) {
+  return parse<float>(text, name, require_finite);
+}
+PointColumns<double> parse_points_f64(std::string_view text, const std::string& name, bool require_finite) {
+  return parse<double>(text, name, require_finite);
+}
 
 std::string read_points_text(const std::string& path) {
   if (path == "-") return std::string(std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>());

@@ -43,7 +43,8 @@ MeshFormat format_from_extension(std::string_view path) {
 }
 
 MeshFormat sniff_format(std::string_view b) {
-  if (b.size() >= 4 && b.substr(0, 3) == "ply" && (b[3] == '\n' || b[3] == '\r')) return MeshFormat::Ply;
+  if (b.size() >= 4 && b.substr(0, 3) == "ply" && (b[3] == '\n' || b[3] == '\r' || b[3] == ' ' || b[3] == '\t'))
+    return MeshFormat::Ply;
   // A binary STL whose size matches its triangle count, whatever its header says.
   if (b.size() >= 84 && 84 + 50 * std::uint64_t(load_u32le(b.data() + 80)) == b.size()) return MeshFormat::Stl;
   std::size_t i = 0;
@@ -75,6 +76,10 @@ MeshFormat sniff_format(std::string_view b) {
 
 TriMesh read_mesh_from_memory(std::string_view bytes, const std::string& name, const MeshReadOptions& options) {
   if (bytes.empty()) throw InputError(name, 0, "empty file");
+  // Text files saved by some editors start with a UTF-8 byte order mark; a binary STL whose size
+  // matches its triangle count keeps its header bytes, whatever they are.
+  const bool binary_stl = bytes.size() >= 84 && 84 + 50 * std::uint64_t(load_u32le(bytes.data() + 80)) == bytes.size();
+  if (!binary_stl && bytes.size() >= 3 && bytes.substr(0, 3) == "\xEF\xBB\xBF") bytes.remove_prefix(3);
   MeshFormat f = options.format;
   if (f == MeshFormat::Unknown) f = sniff_format(bytes);
   if (f == MeshFormat::Unknown) f = format_from_extension(name);
@@ -110,8 +115,15 @@ Vec3 unit_normal(const TriMesh& m, std::size_t t) {
 std::string write_mesh_to_string(const TriMesh& m, MeshFormat format, bool ascii) {
   std::string out;
   char buf[256];
+  if (m.triangles.empty()) throw InputError(m.name, 0, "cannot write a mesh with no triangles");
   switch (format) {
     case MeshFormat::Stl:
+      // STL stores single precision: refuse what would turn into infinities.
+      for (std::size_t v = 0; v < m.vertices.size(); ++v)
+        for (int c = 0; c < 3; ++c)
+          if (!std::isfinite(static_cast<float>(m.vertices[v][c])))
+            throw InputError(m.name, 0, "vertex " + std::to_string(v) +
+                                            " is beyond single precision, which STL stores; write OBJ or PLY");
       if (ascii) {
         out += "solid frep\n";
         for (std::size_t t = 0; t < m.triangles.size(); ++t) {

@@ -132,7 +132,9 @@ TriMesh read_ply(std::string_view bytes, const std::string& name) {
   if (bytes.empty()) throw InputError(name, 0, "empty file");
   LineCursor lines(bytes);
   std::string_view line;
-  if (!lines.next(line) || line != "ply") throw InputError(name, 1, "not a PLY file (first line must be 'ply')");
+  if (!lines.next(line)) throw InputError(name, 1, "not a PLY file (first line must be 'ply')");
+  while (!line.empty() && (line.back() == ' ' || line.back() == '\t')) line.remove_suffix(1);
+  if (line != "ply") throw InputError(name, 1, "not a PLY file (first line must be 'ply')");
   Encoding enc = Encoding::Ascii;
   bool have_format = false, ended = false;
   std::vector<Element> elements;
@@ -237,8 +239,9 @@ TriMesh read_ply(std::string_view bytes, const std::string& name) {
             for (std::uint64_t k = 0; k < n; ++k) r.value(pr.type);
             continue;
           }
-          const std::uint64_t ln = r.line(), off = r.offset();
+          const std::uint64_t off = r.offset();  // binary: where the value starts
           const double val = r.value(pr.type);
+          const std::uint64_t ln = r.line();  // ASCII: the line of the token just read
           for (int c = 0; c < 3; ++c)
             if (axis[c] == int(i)) {
               if (!std::isfinite(val)) throw InputError(name, ln, "vertex coordinate is not a finite number", off);
@@ -279,9 +282,11 @@ TriMesh read_ply(std::string_view bytes, const std::string& name) {
             poly.clear();
           };
           for (std::uint64_t k = 0; k < n; ++k) {
-            const std::uint64_t vln = r.line(), voff = r.offset();
+            const std::uint64_t voff = r.offset();
             const double v = r.value(pr.type);
-            if (strips && v == -1) {
+            const std::uint64_t vln = r.line();
+            // A strip restarts at -1, which an unsigned index type stores as its maximum.
+            if (strips && (v == -1 || v == 4294967295.0 || (type_size(pr.type) == 2 && v == 65535.0))) {
               flush_strip();
               continue;
             }

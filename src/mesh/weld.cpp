@@ -1,7 +1,10 @@
 #include "frep/mesh/weld.hpp"
 
+#include <cstdio>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <numeric>
 #include <unordered_map>
@@ -83,8 +86,12 @@ std::vector<std::uint32_t> tolerance_representatives(const TriMesh& m, const std
     for (int c = 0; c < 3; ++c) {
       const double q = std::floor(p[c] / tol);
       if (!(std::fabs(q) < 4e18))
-        throw InputError(m.name, 0, "weld tolerance " + std::to_string(tol) + " is too small for vertex " +
-                                        std::to_string(i) + "'s coordinates");
+      {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "weld tolerance %g is too small for vertex %u at (%.9g, %.9g, %.9g)", tol, i,
+                      p.x, p.y, p.z);
+        throw InputError(m.name, 0, std::string(buf) + "; use 0 for exact welding");
+      }
       *out[c] = static_cast<std::int64_t>(q);
     }
     return k;

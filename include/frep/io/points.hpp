@@ -15,10 +15,11 @@ struct PointColumns {
 };
 
 // Parses points in single precision (each number rounded once, straight from its decimal text).
-// Throws InputError naming `name` and the line for anything that is not 2 or 3 numbers.
-PointColumns<float> parse_points_f32(std::string_view text, const std::string& name);
+// Throws InputError naming `name` and the line for anything that is not 2 or 3 numbers, and,
+// with `require_finite`, for infinite or NaN coordinates.
+PointColumns<float> parse_points_f32(std::string_view text, const std::string& name, bool require_finite = false);
 // Same, in double precision.
-PointColumns<double> parse_points_f64(std::string_view text, const std::string& name);
+PointColumns<double> parse_points_f64(std::string_view text, const std::string& name, bool require_finite = false);
 
 // Reads a points file, or standard input when `path` is "-".
 std::string read_points_text(const std::string& path);
