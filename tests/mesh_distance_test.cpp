@@ -161,6 +161,14 @@ TEST(MeshDistance, BatchIsIndependentOfThreads) {
   EXPECT_EQ(signed_distance(s, x, y, z), a);
 }
 
+// Beyond these scales squared distances or triple products would overflow or underflow: a
+// clear error instead of a wrong sign.
+TEST(MeshDistance, RefusesScalesItCannotHandleExactly) {
+  EXPECT_THROW(MeshDistance(test::make_box({-1e150, -1e150, -1e150}, {1e150, 1e150, 1e150})), InputError);
+  EXPECT_THROW(MeshDistance(test::make_box({0, 0, 0}, {1e-110, 1e-110, 1e-110})), InputError);
+  EXPECT_NO_THROW(MeshDistance(test::make_box({-1e30, -1e30, -1e30}, {1e30, 1e30, 1e30})));
+}
+
 // End to end: the CLI commands on small files written here.
 std::string run(const std::string& cmd, int& status) {
   std::string out;

@@ -226,6 +226,26 @@ void parallel_for(std::size_t n, unsigned threads, F&& f) {
 
 MeshDistance::MeshDistance(const TriMesh& mesh, const MeshDistanceOptions& options) : options_(options) {
   if (mesh.triangles.empty()) throw InputError(mesh.name, 0, "mesh has no triangles");
+  // Squared distances and the winding number's triple products must neither overflow nor
+  // underflow in double precision: refuse scales where they would, rather than answer wrongly.
+  double extent = 0, largest = 0;
+  {
+    Vec3 lo = mesh.vertices.empty() ? Vec3{} : mesh.vertices[0], hi = lo;
+    for (const Triangle& t : mesh.triangles)
+      for (std::uint32_t v : t) {
+        const Vec3& q = mesh.vertices[v];
+        for (int c = 0; c < 3; ++c) {
+          lo[c] = std::min(lo[c], q[c]);
+          hi[c] = std::max(hi[c], q[c]);
+          largest = std::max(largest, std::fabs(q[c]));
+        }
+      }
+    for (int c = 0; c < 3; ++c) extent = std::max(extent, hi[c] - lo[c]);
+  }
+  if (largest > 1e100 || (extent > 0 && extent < 1e-90))
+    throw InputError(mesh.name, 0,
+                     "coordinates out of the range the distance oracle handles exactly (|x| <= 1e100, size >= "
+                     "1e-90): rescale the mesh");
   const WeldResult w = weld(mesh, {options.weld_tolerance});
   const TriMesh& m = w.mesh;
   const std::size_t nt = m.triangles.size();
