@@ -169,6 +169,16 @@ TEST(MeshDistance, RefusesScalesItCannotHandleExactly) {
   EXPECT_NO_THROW(MeshDistance(test::make_box({-1e30, -1e30, -1e30}, {1e30, 1e30, 1e30})));
 }
 
+// A box as wide as single precision allows (like the shared cray_right_fltmax.obj): the distance
+// to a face must not inherit the rounding of coordinates near 3.4e38.
+TEST(MeshDistance, HugeFacesGiveExactPlaneDistances) {
+  const double big = 3.4028234663852886e38;
+  const MeshDistance md(test::make_box({-big, -big, -big}, {big, big, -100}));
+  EXPECT_EQ(md.signed_distance({1e30, 0, 0}), 100.0);
+  EXPECT_EQ(md.signed_distance({0, 0, 0}, SignMethod::Pseudonormal), 100.0);
+  EXPECT_EQ(md.signed_distance({0, 0, -200}), -100.0);
+}
+
 // End to end: the CLI commands on small files written here.
 std::string run(const std::string& cmd, int& status) {
   std::string out;

@@ -311,6 +311,13 @@ ClosestPoint MeshDistance::closest_point(const Vec3& p) const {
   Feature f;
   const Tri& t = tri_[i];
   const Vec3 q = closest_on_triangle(p, t.a, t.b, t.c, f);
+  // Inside the face's prism the distance is the plane distance: computed from the normal it
+  // does not inherit the rounding of the in-plane coordinates of q, which matters for huge
+  // triangles (a face 1e38 wide would otherwise be off by about 1e22).
+  if (f == Feature::Face) {
+    const Vec3& n = face_normal_[tri_id_[i]];
+    if (length2(n) > 0) return {std::fabs(dot(p - t.a, n)), q, tri_id_[i], f};
+  }
   return {length(p - q), q, tri_id_[i], f};
 }
 
