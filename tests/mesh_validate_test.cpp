@@ -1,10 +1,13 @@
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <fstream>
+#include <new>
 #include <map>
 #include <random>
 #include <sstream>
 
+#include "frep/mesh/bvh.hpp"
 #include "frep/mesh/mesh_io.hpp"
 #include "frep/mesh/validate.hpp"
 #include "mesh/predicates.hpp"
@@ -210,6 +213,33 @@ TEST(Validate, VerdictsMatchSharedManifest) {
     ++checked;
   }
   EXPECT_GE(checked, 30);
+}
+
+// An exception thrown in a worker (bad_alloc while recording pairs) reaches the caller after
+// every thread has been joined instead of terminating the process; absurd thread counts are
+// capped instead of aborting.
+TEST(Validate, ParallelPairsRethrowWorkerExceptions) {
+  const TriMesh m = test::make_sphere(3);
+  const TriangleBvh bvh(m);
+  for (unsigned threads : {1u, 2u, 7u, 100000u}) {
+    std::atomic<std::size_t> pairs{0};
+    bvh.for_each_overlapping_pair_parallel(threads, [&](std::uint32_t, std::uint32_t, unsigned th) {
+      EXPECT_LT(th, threads);
+      ++pairs;
+    });
+    std::size_t serial = 0;
+    bvh.for_each_overlapping_pair([&](std::uint32_t, std::uint32_t) { ++serial; });
+    EXPECT_EQ(pairs.load(), serial);
+    std::atomic<int> calls{0};
+    EXPECT_THROW(bvh.for_each_overlapping_pair_parallel(threads,
+                                                        [&](std::uint32_t, std::uint32_t, unsigned) {
+                                                          if (++calls == 50) throw std::bad_alloc();
+                                                        }),
+                 std::bad_alloc);
+  }
+  ValidationOptions opt;
+  opt.threads = 100000;
+  EXPECT_TRUE(validate_mesh(test::make_sphere(2), opt).is_solid());
 }
 
 }  // namespace

@@ -26,7 +26,7 @@ void register_check(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--examples", a->examples, "Example locations listed per defect (default 5)");
   cmd->add_flag("--no-self-intersections", a->no_intersections, "Skip the self-intersection test");
-  cmd->add_option("--threads", a->threads, "Worker threads (default: all cores)");
+  cmd->add_option("--threads", a->threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0u, 1024u));
   cmd->callback([a] {
     const TriMesh mesh = read_mesh(a->file);
     ValidationOptions opt;

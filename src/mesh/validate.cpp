@@ -287,7 +287,8 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
   if (opt.self_intersections && nt > 1) {
     r.self_intersections_checked = true;
     const TriangleBvh bvh(m);
-    unsigned threads = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
+    const unsigned threads =
+        std::min(1024u, opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency()));
     struct Found {
       std::uint32_t a, b;
       Contact kind;
