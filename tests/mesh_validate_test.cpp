@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <fstream>
 #include <new>
 #include <map>
@@ -240,6 +241,24 @@ TEST(Validate, ParallelPairsRethrowWorkerExceptions) {
   ValidationOptions opt;
   opt.threads = 100000;
   EXPECT_TRUE(validate_mesh(test::make_sphere(2), opt).is_solid());
+}
+
+// One triangle repeated many times: duplicates are grouped in one sorted pass (it used to walk
+// back over the group for every copy) and copies stay out of the all-pairs intersection test.
+TEST(Validate, ManyDuplicateTrianglesTakeLinearTime) {
+  TriMesh m;
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const std::uint32_t n = 200000;
+  for (std::uint32_t i = 0; i < n; ++i) m.add_triangle(i % 2 ? 0 : 1, i % 2 ? 1 : 2, i % 2 ? 2 : 0, i, i + 1);
+  const auto t0 = std::chrono::steady_clock::now();
+  const ValidationReport r = validate_mesh(m);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(count(r, DefectKind::DuplicateTriangles), n - 1);
+  ASSERT_EQ(r.defect(DefectKind::DuplicateTriangles).examples.size(), 5u);
+  for (const DefectLocation& l : r.defect(DefectKind::DuplicateTriangles).examples) EXPECT_EQ(l.other, 0u);
+  EXPECT_EQ(r.defect(DefectKind::DuplicateTriangles).examples[0].triangle, 1u);
+  EXPECT_TRUE(r.self_intersections_checked);
+  EXPECT_LT(seconds, 5.0);  // quadratic: minutes
 }
 
 }  // namespace

@@ -115,7 +115,7 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
 
   // Triangles: collapsed (repeated index), zero area (exactly collinear), needles; area, volume.
   std::vector<char> usable(nt, 1);  // non-collapsed: take part in topology
-  std::vector<char> flat(nt, 0);    // zero area: skipped by the intersection test
+  std::vector<char> flat(nt, 0);    // zero area or a duplicate: skipped by the intersection test
   for (std::uint32_t t = 0; t < nt; ++t) {
     const Triangle& tr = m.triangles[t];
     if (tr[0] == tr[1] || tr[1] == tr[2] || tr[0] == tr[2]) {
@@ -140,7 +140,9 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
     if (4 * std::sqrt(3.0) * 0.5 * length(n) < opt.needle_quality * e2) c.add(DefectKind::NeedleTriangles, c.at_triangle(t));
   }
 
-  // Duplicate triangles: same vertex set as an earlier triangle.
+  // Duplicate triangles: same vertex set as an earlier triangle. Sorted once; each run of equal
+  // keys names its first triangle. Copies are left out of the intersection test, where they
+  // would pair with every other copy.
   {
     std::vector<std::pair<Triangle, std::uint32_t>> keys;
     keys.reserve(nt);
@@ -151,14 +153,14 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
         keys.push_back({s, t});
       }
     std::sort(keys.begin(), keys.end());
-    for (std::size_t i = 1; i < keys.size(); ++i)
-      if (keys[i].first == keys[i - 1].first) {
-        DefectLocation l = c.at_triangle(keys[i].second);
-        std::size_t j = i;
-        while (j > 0 && keys[j - 1].first == keys[i].first) --j;
-        l.other = keys[j].second;
+    for (std::size_t i = 0, j; i < keys.size(); i = j) {
+      for (j = i + 1; j < keys.size() && keys[j].first == keys[i].first; ++j) {
+        DefectLocation l = c.at_triangle(keys[j].second);
+        l.other = keys[i].second;
         c.add(DefectKind::DuplicateTriangles, l);
+        flat[keys[j].second] = 1;
       }
+    }
   }
 
   // Edges: sort directed half-edges by their undirected key.
@@ -286,7 +288,16 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
   // Self-intersections: candidate pairs from the BVH, classified exactly.
   if (opt.self_intersections && nt > 1) {
     r.self_intersections_checked = true;
-    const TriangleBvh bvh(m);
+    // Only triangles that can intersect anything go into the hierarchy.
+    std::vector<std::uint32_t> live;
+    for (std::uint32_t t = 0; t < nt; ++t)
+      if (!flat[t]) live.push_back(t);
+    TriMesh sub;
+    if (live.size() < nt) {
+      sub.vertices = m.vertices;
+      for (std::uint32_t t : live) sub.triangles.push_back(m.triangles[t]);
+    }
+    const TriangleBvh bvh(live.size() < nt ? sub : m);
     const unsigned threads =
         std::min(1024u, opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency()));
     struct Found {
@@ -295,7 +306,7 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
     };
     std::vector<std::vector<Found>> found(threads);
     bvh.for_each_overlapping_pair_parallel(threads, [&](std::uint32_t a, std::uint32_t b, unsigned th) {
-      if (flat[a] || flat[b]) return;
+      a = live[a], b = live[b];
       const Triangle &ta = m.triangles[a], &tb = m.triangles[b];
       const Vec3 p[3] = {m.vertices[ta[0]], m.vertices[ta[1]], m.vertices[ta[2]]};
       const Vec3 q[3] = {m.vertices[tb[0]], m.vertices[tb[1]], m.vertices[tb[2]]};
