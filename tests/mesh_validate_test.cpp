@@ -261,5 +261,33 @@ TEST(Validate, ManyDuplicateTrianglesTakeLinearTime) {
   EXPECT_LT(seconds, 5.0);  // quadratic: minutes
 }
 
+// n coplanar triangles that all overlap each other: n(n-1)/2 overlap pairs are counted but only
+// the smallest (a, b) pairs are kept as examples, the same for any number of threads (every
+// pair used to be stored: quadratic memory).
+TEST(Validate, ManyOverlappingPairsKeepOnlyExamples) {
+  TriMesh m;
+  const std::uint32_t n = 1500;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const double e = 1e-4 * i;
+    m.vertices.push_back({e, 0, 0});
+    m.vertices.push_back({1, e, 0});
+    m.vertices.push_back({0, 1 - e, 0});
+    m.add_triangle(3 * i, 3 * i + 1, 3 * i + 2, i, 0);
+  }
+  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> seen;
+  for (unsigned threads : {1u, 3u, 8u}) {
+    ValidationOptions opt;
+    opt.threads = threads;
+    opt.max_examples = 4;
+    const ValidationReport r = validate_mesh(m, opt);
+    EXPECT_EQ(count(r, DefectKind::Overlaps), std::uint64_t(n) * (n - 1) / 2);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> ex;
+    for (const DefectLocation& l : r.defect(DefectKind::Overlaps).examples) ex.push_back({l.triangle, l.other});
+    seen.push_back(ex);
+  }
+  const std::vector<std::pair<std::uint32_t, std::uint32_t>> expected = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
+  for (const auto& ex : seen) EXPECT_EQ(ex, expected);
+}
+
 }  // namespace
 }  // namespace frep

@@ -300,11 +300,16 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
     const TriangleBvh bvh(live.size() < nt ? sub : m);
     const unsigned threads =
         std::min(1024u, opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency()));
-    struct Found {
-      std::uint32_t a, b;
-      Contact kind;
+    // Per thread and kind of contact: a count, and the smallest (a, b) pairs seen so far in a
+    // max-heap of at most max_examples, so memory does not grow with the number of pairs and
+    // the examples do not depend on how pairs were spread over the threads.
+    using Pair = std::uint64_t;  // a << 32 | b, a < b
+    struct alignas(64) PerThread {
+      std::uint64_t count[3] = {0, 0, 0};
+      std::vector<Pair> best[3];
     };
-    std::vector<std::vector<Found>> found(threads);
+    std::vector<PerThread> found(threads);
+    const std::size_t keep = opt.max_examples;
     bvh.for_each_overlapping_pair_parallel(threads, [&](std::uint32_t a, std::uint32_t b, unsigned th) {
       a = live[a], b = live[b];
       const Triangle &ta = m.triangles[a], &tb = m.triangles[b];
@@ -312,17 +317,36 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
       const Vec3 q[3] = {m.vertices[tb[0]], m.vertices[tb[1]], m.vertices[tb[2]]};
       const unsigned pi[3] = {ta[0], ta[1], ta[2]}, qi[3] = {tb[0], tb[1], tb[2]};
       const Contact k = classify_triangle_pair(p, pi, q, qi);
-      if (k != Contact::None) found[th].push_back({std::min(a, b), std::max(a, b), k});
+      if (k == Contact::None) return;
+      const int slot = k == Contact::Cross ? 0 : (k == Contact::Overlap ? 1 : 2);
+      PerThread& f = found[th];
+      ++f.count[slot];
+      if (keep == 0) return;
+      const Pair key = (Pair(std::min(a, b)) << 32) | std::max(a, b);
+      std::vector<Pair>& h = f.best[slot];
+      if (h.size() < keep) {
+        h.push_back(key);
+        std::push_heap(h.begin(), h.end());
+      } else if (key < h.front()) {
+        std::pop_heap(h.begin(), h.end());
+        h.back() = key;
+        std::push_heap(h.begin(), h.end());
+      }
     });
-    std::vector<Found> all;
-    for (auto& f : found) all.insert(all.end(), f.begin(), f.end());
-    std::sort(all.begin(), all.end(), [](const Found& x, const Found& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
-    for (const Found& f : all) {
-      DefectLocation l = c.at_triangle(f.a);
-      l.other = f.b;
-      c.add(f.kind == Contact::Cross ? DefectKind::SelfIntersections
-                                      : (f.kind == Contact::Overlap ? DefectKind::Overlaps : DefectKind::TouchingPairs),
-            l);
+    const DefectKind kinds[3] = {DefectKind::SelfIntersections, DefectKind::Overlaps, DefectKind::TouchingPairs};
+    for (int slot = 0; slot < 3; ++slot) {
+      std::vector<Pair> all;
+      Defect& d = c.d(kinds[slot]);
+      for (PerThread& f : found) {
+        d.count += f.count[slot];
+        all.insert(all.end(), f.best[slot].begin(), f.best[slot].end());
+      }
+      std::sort(all.begin(), all.end());
+      for (std::size_t i = 0; i < all.size() && d.examples.size() < keep; ++i) {
+        DefectLocation l = c.at_triangle(std::uint32_t(all[i] >> 32));
+        l.other = std::uint32_t(all[i]);
+        d.examples.push_back(l);
+      }
     }
   }
   return r;
