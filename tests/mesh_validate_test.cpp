@@ -289,5 +289,65 @@ TEST(Validate, ManyOverlappingPairsKeepOnlyExamples) {
   for (const auto& ex : seen) EXPECT_EQ(ex, expected);
 }
 
+TriMesh transformed(TriMesh m, double scale, Vec3 offset = {}) {
+  for (Vec3& v : m.vertices) v = v * scale + offset;
+  return m;
+}
+TriMesh inverted(TriMesh m) {
+  for (Triangle& t : m.triangles) std::swap(t[1], t[2]);
+  return m;
+}
+TriMesh combined(const std::vector<TriMesh>& parts) {
+  TriMesh m;
+  for (const TriMesh& p : parts) {
+    const auto base = std::uint32_t(m.vertices.size());
+    m.vertices.insert(m.vertices.end(), p.vertices.begin(), p.vertices.end());
+    for (const Triangle& t : p.triangles)
+      m.add_triangle(t[0] + base, t[1] + base, t[2] + base, std::uint32_t(m.triangles.size()), 0);
+  }
+  return m;
+}
+
+// The volume used to be summed about the origin: a unit sphere moved to 1e6 lost every digit
+// to cancellation and came out inward (and its inverted copy outward).
+TEST(Validate, VolumeAndOrientationFarFromOrigin) {
+  const TriMesh sphere = test::make_sphere(3);
+  const double v0 = validate_mesh(sphere).volume;
+  for (double d : {1e6, 1e8, 1e10}) {
+    const TriMesh moved = transformed(sphere, 1, {d, -d, d});
+    ValidationReport r = validate_mesh(moved);
+    EXPECT_TRUE(r.is_solid()) << d << "\n" << r.to_text();
+    EXPECT_NEAR(r.volume, v0, 1e-3 * v0) << d;
+    r = validate_mesh(inverted(moved));
+    EXPECT_EQ(count(r, DefectKind::InwardOrientation), 1u) << d;
+    EXPECT_NEAR(r.volume, -v0, 1e-3 * v0) << d;
+  }
+}
+
+// Coordinates near the ends of the double range: the predicates work on a copy scaled by a power
+// of two, and volumes, areas, boxes and locations are reported in the file's units.
+TEST(Validate, ExtremeCoordinatesAreScaledExactly) {
+  const TriMesh a = test::make_box({0, 0, 0}, {1, 1, 1}), b = test::make_box({0.5, 0.5, 0.5}, {1.5, 1.5, 1.5});
+  for (double s : {1e200, 1e-110, 1e-300, 3.4e38}) {
+    ValidationReport r = validate_mesh(transformed(combined({a, b}), s));
+    EXPECT_FALSE(r.is_solid()) << s;
+    EXPECT_GT(count(r, DefectKind::SelfIntersections), 0u) << s;
+    EXPECT_EQ(count(r, DefectKind::Overlaps), 0u) << s;
+    const DefectLocation& l = r.defect(DefectKind::SelfIntersections).examples.at(0);
+    EXPECT_GT(l.point.x, 0.1 * s) << s;
+    EXPECT_LT(l.point.x, 1.5 * s) << s;
+    r = validate_mesh(transformed(a, s));
+    EXPECT_TRUE(r.is_solid()) << s << "\n" << r.to_text();
+    EXPECT_EQ(count(r, DefectKind::Overlaps), 0u) << s;
+    EXPECT_DOUBLE_EQ(r.box.hi.x, s);
+    if (s * s * s > 1e-300 && s * s * s < 1e300) EXPECT_NEAR(r.volume, s * s * s, 1e-12 * s * s * s) << s;
+    if (s > 1e150) EXPECT_EQ(r.volume, HUGE_VAL);  // 1e600 is beyond double
+    EXPECT_FALSE(std::isnan(r.volume)) << s;
+    EXPECT_FALSE(std::isnan(r.area)) << s;
+    r = validate_mesh(inverted(transformed(a, s)));
+    EXPECT_EQ(count(r, DefectKind::InwardOrientation), 1u) << s;
+  }
+}
+
 }  // namespace
 }  // namespace frep

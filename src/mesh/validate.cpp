@@ -57,9 +57,14 @@ class UnionFind {
 
 struct Collector {
   ValidationReport& r;
-  const TriMesh& m;  // welded; triangle indices equal the file's
+  const TriMesh& m;  // welded and scaled by 2^-exponent; triangle indices equal the file's
   const std::vector<std::uint32_t>& original_of_welded;
   std::size_t max_examples;
+  int exponent;  // the file's coordinates are m's times 2^exponent
+
+  Vec3 unscale(const Vec3& p) const {
+    return {std::ldexp(p.x, exponent), std::ldexp(p.y, exponent), std::ldexp(p.z, exponent)};
+  }
 
   Defect& d(DefectKind k) { return r.defects[static_cast<int>(k)]; }
   DefectLocation at_triangle(std::uint32_t t) const {
@@ -67,7 +72,7 @@ struct Collector {
     l.triangle = t;
     l.face = m.face_source[t];
     l.line = m.face_line[t];
-    l.point = (m.corner(t, 0) + m.corner(t, 1) + m.corner(t, 2)) / 3.0;
+    l.point = unscale((m.corner(t, 0) + m.corner(t, 1) + m.corner(t, 2)) / 3.0);
     return l;
   }
   void add(DefectKind k, const DefectLocation& l) {
@@ -90,11 +95,25 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
   r.triangles = raw.triangles.size();
   for (int k = 0; k < kDefectKinds; ++k) r.defects.push_back({static_cast<DefectKind>(k), 0, {}});
 
-  const WeldResult w = weld(raw, {opt.weld_tolerance});
-  const TriMesh& m = w.mesh;
+  WeldResult w = weld(raw, {opt.weld_tolerance});
+  TriMesh& m = w.mesh;
   r.welded_vertices = m.vertices.size();
   r.box = bounding_box(m);
-  Collector c{r, m, w.original_of_welded, opt.max_examples};
+  // Everything below works on coordinates scaled by a power of two (exact) so that the largest
+  // magnitude is in [1/2, 1): the exact predicates' expansions neither overflow (1e200) nor
+  // lose bits to underflow (1e-110), and the volume's triple products stay finite. Lengths,
+  // areas and volumes are scaled back when reported.
+  int exponent = 0;
+  {
+    double big = 0;
+    for (const Vec3& v : m.vertices)
+      for (double x : {v.x, v.y, v.z})
+        if (std::isfinite(x)) big = std::max(big, std::fabs(x));
+    if (big > 0) std::frexp(big, &exponent);
+    if (exponent != 0)
+      for (Vec3& v : m.vertices) v = {std::ldexp(v.x, -exponent), std::ldexp(v.y, -exponent), std::ldexp(v.z, -exponent)};
+  }
+  Collector c{r, m, w.original_of_welded, opt.max_examples, exponent};
   const std::size_t nt = m.triangles.size(), nv = m.vertices.size();
 
   // Vertices: unused in the file, and duplicates merged by welding.
@@ -113,7 +132,7 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
     }
   }
 
-  // Triangles: collapsed (repeated index), zero area (exactly collinear), needles; area, volume.
+  // Triangles: collapsed (repeated index), zero area (exactly collinear), needles; area.
   std::vector<char> usable(nt, 1);  // non-collapsed: take part in topology
   std::vector<char> flat(nt, 0);    // zero area or a duplicate: skipped by the intersection test
   for (std::uint32_t t = 0; t < nt; ++t) {
@@ -127,7 +146,6 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
     const Vec3 a = m.vertices[tr[0]], b = m.vertices[tr[1]], cc = m.vertices[tr[2]];
     const Vec3 n = cross(b - a, cc - a);
     r.area += 0.5 * length(n);
-    r.volume += dot(a, cross(b, cc)) / 6.0;
     const bool collinear = exact::orient2d(a.x, a.y, b.x, b.y, cc.x, cc.y) == 0 &&
                            exact::orient2d(a.y, a.z, b.y, b.z, cc.y, cc.z) == 0 &&
                            exact::orient2d(a.z, a.x, b.z, b.x, cc.z, cc.x) == 0;
@@ -192,7 +210,7 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
     const std::uint32_t a = std::uint32_t(he[i].key >> 32), b = std::uint32_t(he[i].key);
     auto loc = [&] {
       DefectLocation l = c.at_triangle(he[i].tri);
-      l.point = (m.vertices[a] + m.vertices[b]) * 0.5;
+      l.point = c.unscale((m.vertices[a] + m.vertices[b]) * 0.5);
       l.vertex = w.original_of_welded[a];
       if (count > 1) l.other = he[i + 1].tri;
       return l;
@@ -211,8 +229,38 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
     }
     i = j;
   }
-  for (std::uint32_t t = 0; t < nt; ++t)
-    if (usable[t] && comp.find(t) == t) ++r.components;
+  // Shells (edge-connected pieces): dense ids in order of their first triangle (the union-find
+  // root is the smallest triangle index), boxes, and signed volumes summed about the shell's box
+  // center rather than the origin, where far from the origin the tetrahedra cancel
+  // catastrophically (a unit sphere at 1e6 came out with the wrong sign).
+  struct Shell {
+    Box3 box;
+    double volume = 0;
+    std::uint32_t first = kNone;
+  };
+  std::vector<Shell> shells;
+  std::vector<std::uint32_t> shell_of(nt, kNone);
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    if (!usable[t]) continue;
+    const std::uint32_t root = comp.find(t);
+    if (root == t) {
+      shell_of[t] = std::uint32_t(shells.size());
+      shells.emplace_back().first = t;
+    } else {
+      shell_of[t] = shell_of[root];
+    }
+    for (std::uint32_t v : m.triangles[t]) shells[shell_of[t]].box.add(m.vertices[v]);
+  }
+  r.components = shells.size();
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    if (!usable[t]) continue;
+    Shell& s = shells[shell_of[t]];
+    const Vec3 o = s.box.center();
+    const Vec3 a = m.corner(t, 0) - o, b = m.corner(t, 1) - o, cc = m.corner(t, 2) - o;
+    s.volume += dot(a, cross(b, cc)) / 6.0;
+  }
+  double volume = 0;
+  for (const Shell& s : shells) volume += s.volume;
 
   // Non-manifold vertices: the triangles around a vertex, joined through manifold edges at it,
   // must form a single fan.
@@ -259,7 +307,7 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
       if (groups > 1) {
         DefectLocation l = c.at_triangle(incident[b]);
         l.vertex = w.original_of_welded[v];
-        l.point = m.vertices[v];
+        l.point = c.unscale(m.vertices[v]);
         c.add(DefectKind::NonManifoldVertices, l);
       }
     }
@@ -278,9 +326,9 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
       }
     const std::int64_t chi = std::int64_t(used_vertices) - std::int64_t(r.edges) + std::int64_t(faces);
     r.genus = (2 * std::int64_t(r.components) - chi) / 2;
-    if (r.volume < 0) {
+    if (volume < 0) {
       DefectLocation l;
-      l.point = r.box.center();
+      l.point = r.box.lo * 0.5 + r.box.hi * 0.5;
       c.add(DefectKind::InwardOrientation, l);
     }
   }
@@ -349,6 +397,8 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
       }
     }
   }
+  r.area = std::ldexp(r.area, 2 * exponent);
+  r.volume = std::ldexp(volume, 3 * exponent);
   return r;
 }
 
