@@ -349,5 +349,97 @@ TEST(Validate, ExtremeCoordinatesAreScaledExactly) {
   }
 }
 
+// With several shells the total volume says little: an inward shell beside an outward one, or an
+// outward shell inside another (winding number 2 inside it), used to pass. A cavity (an inward
+// shell inside an outward one) is a valid solid.
+TEST(Validate, ShellOrientationAndNesting) {
+  const TriMesh big = test::make_box({0, 0, 0}, {3, 3, 3}), small = test::make_box({1, 1, 1}, {2, 2, 2}),
+                apart = test::make_box({5, 0, 0}, {6, 1, 1});
+  ValidationReport r = validate_mesh(combined({big, inverted(small)}));
+  EXPECT_TRUE(r.is_solid()) << r.to_text();
+  EXPECT_DOUBLE_EQ(r.volume, 26.0);
+  EXPECT_TRUE(validate_mesh(combined({big, apart})).is_solid());
+  EXPECT_TRUE(validate_mesh(combined({inverted(small), big})).is_solid());  // shell order does not matter
+  // An island in the cavity is fine too.
+  EXPECT_TRUE(validate_mesh(combined({big, inverted(small), test::make_box({1.2, 1.2, 1.2}, {1.8, 1.8, 1.8})})).is_solid());
+  for (const TriMesh& bad : {combined({big, inverted(apart)}), combined({big, small}), combined({small, big}),
+                             combined({inverted(big), small}), combined({big, inverted(small), inverted(test::make_box({1.2, 1.2, 1.2}, {1.8, 1.8, 1.8}))})}) {
+    r = validate_mesh(bad);
+    EXPECT_FALSE(r.is_solid()) << r.to_text();
+    EXPECT_GE(count(r, DefectKind::ShellOrientation), 1u) << r.to_text();
+    EXPECT_NE(r.summary().find("orientation or nesting"), std::string::npos) << r.summary();
+  }
+  // Exactly one shell is wrong and it is the one named.
+  r = validate_mesh(combined({big, inverted(apart)}));
+  EXPECT_EQ(count(r, DefectKind::ShellOrientation), 1u);
+  EXPECT_GE(r.defect(DefectKind::ShellOrientation).examples.at(0).triangle, 12u);
+  // Many shells (the hierarchical winding number): 4 x 4 x 4 fine boxes, one inverted, one with
+  // an outward box nested inside.
+  std::vector<TriMesh> parts;
+  for (int i = 0; i < 64; ++i) {
+    const Vec3 lo{3.0 * (i % 4), 3.0 * (i / 4 % 4), 3.0 * (i / 16)};
+    parts.push_back(test::make_fine_box(10, lo, lo + Vec3{2, 2, 2}));
+  }
+  EXPECT_TRUE(validate_mesh(combined(parts)).is_solid());
+  parts[5] = inverted(parts[5]);
+  parts.push_back(test::make_box({30.5, 0.5, 0.5}, {31.5, 1.5, 1.5}));  // apart: fine
+  parts.push_back(test::make_box({9.5, 9.5, 9.5}, {10.5, 10.5, 10.5}));  // inside box 63
+  r = validate_mesh(combined(parts));
+  EXPECT_EQ(count(r, DefectKind::ShellOrientation), 2u) << r.to_text();
+  // Many shells nested in a big one (too many exact solid angles: the hierarchical winding
+  // number): 100 cavities are fine, an outward box among them is not.
+  parts.assign(1, test::make_fine_box(90, {0, 0, 0}, {21, 21, 21}));
+  for (int i = 0; i < 100; ++i) {
+    const Vec3 lo{1.0 + 2 * (i % 10), 1.0 + 2 * (i / 10), 10};
+    parts.push_back(inverted(test::make_box(lo, lo + Vec3{1, 1, 1})));
+  }
+  EXPECT_TRUE(validate_mesh(combined(parts)).is_solid());
+  parts.push_back(test::make_box({5.2, 5.2, 5}, {5.8, 5.8, 6}));
+  r = validate_mesh(combined(parts));
+  EXPECT_EQ(count(r, DefectKind::ShellOrientation), 1u) << r.summary();
+  const Vec3 where = r.defect(DefectKind::ShellOrientation).examples.at(0).point;
+  EXPECT_TRUE(where.z >= 5 && where.z <= 6 && where.x >= 5.2 && where.x <= 5.8) << where.x << " " << where.z;
+}
+
+// Meshes without volume are not solids: only collapsed triangles (also after a large weld
+// tolerance), collinear "tetrahedra", a flat closed shell; a thin sliver is still a solid.
+TEST(Validate, DegenerateMeshesAreNotSolids) {
+  TriMesh point;
+  point.vertices = {{0, 0, 0}};
+  point.add_triangle(0, 0, 0, 0, 1);
+  ValidationReport r = validate_mesh(point);
+  EXPECT_FALSE(r.is_solid());
+  EXPECT_NE(r.summary().find("no triangles with three distinct vertices"), std::string::npos) << r.summary();
+  ValidationOptions weld;
+  weld.weld_tolerance = 10;
+  EXPECT_FALSE(validate_mesh(test::make_box(), weld).is_solid());
+
+  TriMesh line;  // four collinear vertices, closed and consistently oriented
+  line.vertices = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}};
+  line.add_triangle(0, 1, 2, 0, 0), line.add_triangle(0, 3, 1, 1, 0), line.add_triangle(1, 3, 2, 2, 0),
+      line.add_triangle(0, 2, 3, 3, 0);
+  r = validate_mesh(line);
+  EXPECT_FALSE(r.is_solid()) << r.to_text();
+  EXPECT_EQ(count(r, DefectKind::DegenerateShells), 1u);
+
+  TriMesh sheet;  // a square, triangulated differently on its two sides
+  sheet.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  sheet.add_triangle(0, 1, 2, 0, 0), sheet.add_triangle(0, 2, 3, 1, 0), sheet.add_triangle(0, 3, 1, 2, 0),
+      sheet.add_triangle(1, 3, 2, 3, 0);
+  ValidationOptions fast;
+  fast.self_intersections = false;
+  r = validate_mesh(sheet, fast);
+  EXPECT_FALSE(r.is_solid()) << r.to_text();
+  EXPECT_EQ(count(r, DefectKind::DegenerateShells), 1u);
+
+  TriMesh sliver;
+  sliver.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.3, 0.3, 1e-12}};
+  sliver.add_triangle(0, 2, 1, 0, 0), sliver.add_triangle(0, 1, 3, 1, 0), sliver.add_triangle(1, 2, 3, 2, 0),
+      sliver.add_triangle(2, 0, 3, 3, 0);
+  r = validate_mesh(sliver);
+  EXPECT_TRUE(r.is_solid()) << r.to_text();
+  EXPECT_GT(r.volume, 0);
+}
+
 }  // namespace
 }  // namespace frep

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "frep/mesh/bvh.hpp"
+#include "frep/mesh/mesh_distance.hpp"
 #include "frep/mesh/weld.hpp"
 #include "predicates.hpp"
 #include "tri_tri.hpp"
@@ -28,6 +29,8 @@ const KindInfo kKinds[kDefectKinds] = {
     {"non_manifold_vertices", "non-manifold (pinched) vertices", true},
     {"inconsistent_orientation", "inconsistently oriented edges", true},
     {"inward_orientation", "inward orientation (negative volume)", true},
+    {"shell_orientation", "shells with inconsistent orientation or nesting", true},
+    {"degenerate_shells", "degenerate (flat, zero-volume) shells", true},
     {"self_intersections", "crossing triangle pairs (self-intersections)", true},
     {"overlaps", "coplanar overlapping or folded triangle pairs", true},
     {"duplicate_triangles", "duplicate triangles", true},
@@ -81,6 +84,15 @@ struct Collector {
     if (x.examples.size() < max_examples) x.examples.push_back(l);
   }
 };
+
+// Signed solid angle of triangle abc seen from p (Van Oosterom and Strackee), positive when p is
+// on the side opposite to the right-hand normal: sums to 4 pi inside a closed outward surface.
+double solid_angle(const Vec3& p, const Vec3& a0, const Vec3& b0, const Vec3& c0) {
+  const Vec3 a = a0 - p, b = b0 - p, c = c0 - p;
+  const double la = length(a), lb = length(b), lc = length(c);
+  const double den = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb;
+  return 2 * std::atan2(dot(a, cross(b, c)), den);
+}
 
 }  // namespace
 
@@ -237,6 +249,9 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
     Box3 box;
     double volume = 0;
     std::uint32_t first = kNone;
+    std::uint32_t largest = kNone;  // its largest non-degenerate triangle
+    double largest_n2 = 0;          // |cross|^2 of that triangle
+    bool spatial = false;           // its corners are not all in one plane (exact)
   };
   std::vector<Shell> shells;
   std::vector<std::uint32_t> shell_of(nt, kNone);
@@ -258,6 +273,18 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
     const Vec3 o = s.box.center();
     const Vec3 a = m.corner(t, 0) - o, b = m.corner(t, 1) - o, cc = m.corner(t, 2) - o;
     s.volume += dot(a, cross(b, cc)) / 6.0;
+    if (flat[t]) continue;
+    const double n2 = length2(cross(b - a, cc - a));
+    if (s.largest == kNone || n2 > s.largest_n2) s.largest = t, s.largest_n2 = n2;
+  }
+  // A shell encloses volume only if its corners span space: compare every corner with the plane
+  // of the shell's largest triangle until one is off it (usually the first few).
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    if (!usable[t]) continue;
+    Shell& s = shells[shell_of[t]];
+    if (s.spatial || s.largest == kNone) continue;
+    const Vec3 a = m.corner(s.largest, 0), b = m.corner(s.largest, 1), cc = m.corner(s.largest, 2);
+    for (int k = 0; k < 3 && !s.spatial; ++k) s.spatial = exact::orient3d(a, b, cc, m.corner(t, k)) != 0;
   }
   double volume = 0;
   for (const Shell& s : shells) volume += s.volume;
@@ -326,9 +353,14 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
       }
     const std::int64_t chi = std::int64_t(used_vertices) - std::int64_t(r.edges) + std::int64_t(faces);
     r.genus = (2 * std::int64_t(r.components) - chi) / 2;
+    // Each shell must enclose volume; with several, their orientations and nesting are checked
+    // below by winding numbers, once it is known that they do not cross.
+    for (const Shell& s : shells)
+      if (s.largest == kNone || !s.spatial || s.volume == 0) c.add(DefectKind::DegenerateShells, c.at_triangle(s.first));
     if (volume < 0) {
       DefectLocation l;
-      l.point = r.box.lo * 0.5 + r.box.hi * 0.5;
+      if (shells.size() == 1) l = c.at_triangle(shells[0].first);
+      else l.point = r.box.lo * 0.5 + r.box.hi * 0.5;
       c.add(DefectKind::InwardOrientation, l);
     }
   }
@@ -397,13 +429,107 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
       }
     }
   }
+  // Several closed, consistently oriented shells that do not cross: just outside each shell's
+  // largest triangle (on its normal's side) the winding number of the whole mesh must be 0. It
+  // is -1 there for an inward shell that is not a cavity, and 2 - 1 = 1 for an outward shell
+  // nested in another outward one (or a cavity inside a cavity).
+  if (closed_manifold && c.d(DefectKind::InconsistentOrientation).count == 0 && shells.size() > 1 &&
+      c.d(DefectKind::SelfIntersections).count == 0 && c.d(DefectKind::Overlaps).count == 0) {
+    std::vector<std::pair<std::uint32_t, Vec3>> probes;  // (shell, point)
+    for (std::uint32_t i = 0; i < shells.size(); ++i) {
+      const Shell& s = shells[i];
+      if (s.largest == kNone || !s.spatial) continue;
+      const Vec3 a = m.corner(s.largest, 0), b = m.corner(s.largest, 1), cc = m.corner(s.largest, 2);
+      const Vec3 n = cross(b - a, cc - a), g = (a + b + cc) / 3.0;
+      // Offset from the centroid by a small fraction of the inradius (|n| / perimeter), doubled
+      // until the point is strictly on the normal's side by the exact predicate.
+      double delta = 1e-3 * length(n) / (length(b - a) + length(cc - b) + length(a - cc));
+      const Vec3 u = n / length(n);
+      for (int it = 0; it < 64; ++it, delta *= 2) {
+        const Vec3 p = g + u * delta;
+        if (exact::orient3d(a, b, cc, p) > 0) {
+          probes.push_back({i, p});
+          break;
+        }
+      }
+    }
+    // A closed shell's winding number is 0 outside its box, so only the shells whose boxes
+    // contain a probe count: found through a hierarchy over the shell boxes (each box as a
+    // "triangle" from its low to its high corner), then summed exactly over their triangles.
+    // Disjoint shells cost about one pass over the mesh; if nesting makes the exact sums too
+    // expensive, the whole mesh's hierarchical (far-field dipole) winding number is used.
+    std::vector<std::uint32_t> shell_start(shells.size() + 1, 0), shell_tris;
+    for (std::uint32_t t = 0; t < nt; ++t)
+      if (!flat[t]) ++shell_start[shell_of[t] + 1];
+    for (std::size_t i = 0; i < shells.size(); ++i) shell_start[i + 1] += shell_start[i];
+    shell_tris.resize(shell_start.back());
+    {
+      std::vector<std::uint32_t> fill(shell_start.begin(), shell_start.end() - 1);
+      for (std::uint32_t t = 0; t < nt; ++t)
+        if (!flat[t]) shell_tris[fill[shell_of[t]]++] = t;
+    }
+    TriMesh box_mesh;
+    for (std::uint32_t i = 0; i < shells.size(); ++i) {
+      box_mesh.vertices.push_back(shells[i].box.lo);
+      box_mesh.vertices.push_back(shells[i].box.hi);
+      box_mesh.triangles.push_back({2 * i, 2 * i + 1, 2 * i});
+    }
+    const TriangleBvh box_bvh(box_mesh);
+    auto inside = [](const Box3& b, const Vec3& p) {
+      return b.lo.x <= p.x && p.x <= b.hi.x && b.lo.y <= p.y && p.y <= b.hi.y && b.lo.z <= p.z && p.z <= b.hi.z;
+    };
+    std::vector<std::vector<std::uint32_t>> around(probes.size());  // shells whose box holds the probe
+    std::size_t work = 0;
+    {
+      const auto& nodes = box_bvh.nodes();
+      std::vector<std::uint32_t> stack;
+      for (std::size_t k = 0; k < probes.size(); ++k) {
+        const Vec3& p = probes[k].second;
+        stack.assign(1, 0);
+        while (!stack.empty()) {
+          const TriangleBvh::Node& n = nodes[stack.back()];
+          stack.pop_back();
+          if (!(n.lo[0] <= p.x && p.x <= n.hi[0] && n.lo[1] <= p.y && p.y <= n.hi[1] && n.lo[2] <= p.z &&
+                p.z <= n.hi[2]))
+            continue;
+          if (!n.leaf()) {
+            stack.push_back(n.index);
+            stack.push_back(n.index + 1);
+            continue;
+          }
+          for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
+            const std::uint32_t j = box_bvh.order()[i];
+            if (inside(shells[j].box, p)) around[k].push_back(j), work += shell_start[j + 1] - shell_start[j];
+          }
+        }
+      }
+    }
+    std::vector<double> wn(probes.size(), 0.0);
+    if (work <= (std::size_t(1) << 23)) {
+      for (std::size_t k = 0; k < probes.size(); ++k) {
+        double sum = 0;
+        for (std::uint32_t j : around[k])
+          for (std::uint32_t i = shell_start[j]; i < shell_start[j + 1]; ++i) {
+            const std::uint32_t t = shell_tris[i];
+            sum += solid_angle(probes[k].second, m.corner(t, 0), m.corner(t, 1), m.corner(t, 2));
+          }
+        wn[k] = sum / (4 * 3.14159265358979323846);
+      }
+    } else {
+      const MeshDistance md(m);
+      for (std::size_t k = 0; k < probes.size(); ++k) wn[k] = md.winding_number(probes[k].second);
+    }
+    for (std::size_t k = 0; k < probes.size(); ++k)
+      if (!(std::fabs(wn[k]) < 0.5)) c.add(DefectKind::ShellOrientation, c.at_triangle(shells[probes[k].first].largest));
+  }
+
   r.area = std::ldexp(r.area, 2 * exponent);
   r.volume = std::ldexp(volume, 3 * exponent);
   return r;
 }
 
 bool ValidationReport::is_solid() const {
-  if (triangles == 0) return false;
+  if (triangles == 0 || components == 0) return false;
   for (const Defect& d : defects)
     if (defect_is_fatal(d.kind) && d.count > 0) return false;
   return true;
@@ -450,6 +576,7 @@ std::string ValidationReport::summary() const {
       first = false;
     }
   if (triangles == 0) s += " no triangles";
+  else if (components == 0) s += " no triangles with three distinct vertices";
   return s;
 }
 
