@@ -441,5 +441,19 @@ TEST(Validate, DegenerateMeshesAreNotSolids) {
   EXPECT_GT(r.volume, 0);
 }
 
+// File names are bytes: --json escaped only quotes, backslashes and control characters and
+// passed other bytes through, so a Latin-1 name gave invalid JSON. Well-formed UTF-8 passes;
+// any other byte becomes the escape of U+00XX.
+TEST(Validate, JsonFileNameIsValidUtf8) {
+  ValidationReport r = validate_mesh(test::make_box());
+  r.file = std::string("we\"ird\\\n\t") + "caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80" +  // UTF-8: 2, 3, 4 bytes
+           " lat\xe9n \xff \xc0\xaf \xed\xa0\x80 \xf4\x90\x80\x80 \xe2\x82.obj";     // invalid
+  const std::string j = r.to_json();
+  const std::string expected =
+      "\"file\": \"we\\\"ird\\\\\\u000a\\u0009caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80 lat\\u00e9n \\u00ff "
+      "\\u00c0\\u00af \\u00ed\\u00a0\\u0080 \\u00f4\\u0090\\u0080\\u0080 \\u00e2\\u0082.obj\",";
+  EXPECT_NE(j.find(expected), std::string::npos) << j.substr(0, 300);
+}
+
 }  // namespace
 }  // namespace frep
