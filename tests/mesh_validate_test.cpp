@@ -1,10 +1,14 @@
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
-#include <new>
 #include <map>
+#include <new>
 #include <random>
 #include <sstream>
 
@@ -453,6 +457,33 @@ TEST(Validate, JsonFileNameIsValidUtf8) {
       "\"file\": \"we\\\"ird\\\\\\u000a\\u0009caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80 lat\\u00e9n \\u00ff "
       "\\u00c0\\u00af \\u00ed\\u00a0\\u0080 \\u00f4\\u0090\\u0080\\u0080 \\u00e2\\u0082.obj\",";
   EXPECT_NE(j.find(expected), std::string::npos) << j.substr(0, 300);
+}
+
+// frep check's numeric options: a NaN or infinite weld tolerance and thread counts outside
+// 0..1024 are usage errors (exit 2), not a silent weld of nothing or an abort.
+TEST(Validate, CheckRejectsBadNumericOptions) {
+  const std::string dir = ::testing::TempDir() + "frep_check_opts_" + std::to_string(::getpid());
+  std::filesystem::create_directories(dir);
+  const std::string file = dir + "/box.obj";
+  {
+    std::ofstream f(file);
+    const TriMesh b = test::make_box();
+    for (const Vec3& v : b.vertices) f << "v " << v.x << " " << v.y << " " << v.z << "\n";
+    for (const Triangle& t : b.triangles) f << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
+  }
+  auto code = [&](const std::string& args) {
+    const std::string cmd = std::string("'") + FREP_CLI_PATH + "' check '" + file + "' " + args + " >/dev/null 2>&1";
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  EXPECT_EQ(code(""), 0);
+  EXPECT_EQ(code("--weld-tolerance 0.5 --threads 1024"), 0);
+  EXPECT_EQ(code("--weld-tolerance 5"), 4);  // everything merges: no volume left
+  for (const char* bad : {"--weld-tolerance nan", "--weld-tolerance NaN", "--weld-tolerance inf",
+                          "--weld-tolerance -1", "--weld-tolerance x", "--threads 1025", "--threads 100000",
+                          "--threads -1"})
+    EXPECT_EQ(code(bad), 2) << bad;
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
