@@ -1,10 +1,18 @@
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <map>
+#include <new>
 #include <random>
 #include <sstream>
 
+#include "frep/mesh/bvh.hpp"
 #include "frep/mesh/mesh_io.hpp"
 #include "frep/mesh/validate.hpp"
 #include "mesh/predicates.hpp"
@@ -210,6 +218,272 @@ TEST(Validate, VerdictsMatchSharedManifest) {
     ++checked;
   }
   EXPECT_GE(checked, 30);
+}
+
+// An exception thrown in a worker (bad_alloc while recording pairs) reaches the caller after
+// every thread has been joined instead of terminating the process; absurd thread counts are
+// capped instead of aborting.
+TEST(Validate, ParallelPairsRethrowWorkerExceptions) {
+  const TriMesh m = test::make_sphere(3);
+  const TriangleBvh bvh(m);
+  for (unsigned threads : {1u, 2u, 7u, 100000u}) {
+    std::atomic<std::size_t> pairs{0};
+    bvh.for_each_overlapping_pair_parallel(threads, [&](std::uint32_t, std::uint32_t, unsigned th) {
+      EXPECT_LT(th, threads);
+      ++pairs;
+    });
+    std::size_t serial = 0;
+    bvh.for_each_overlapping_pair([&](std::uint32_t, std::uint32_t) { ++serial; });
+    EXPECT_EQ(pairs.load(), serial);
+    std::atomic<int> calls{0};
+    EXPECT_THROW(bvh.for_each_overlapping_pair_parallel(threads,
+                                                        [&](std::uint32_t, std::uint32_t, unsigned) {
+                                                          if (++calls == 50) throw std::bad_alloc();
+                                                        }),
+                 std::bad_alloc);
+  }
+  ValidationOptions opt;
+  opt.threads = 100000;
+  EXPECT_TRUE(validate_mesh(test::make_sphere(2), opt).is_solid());
+}
+
+// One triangle repeated many times: duplicates are grouped in one sorted pass (it used to walk
+// back over the group for every copy) and copies stay out of the all-pairs intersection test.
+TEST(Validate, ManyDuplicateTrianglesTakeLinearTime) {
+  TriMesh m;
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const std::uint32_t n = 200000;
+  for (std::uint32_t i = 0; i < n; ++i) m.add_triangle(i % 2 ? 0 : 1, i % 2 ? 1 : 2, i % 2 ? 2 : 0, i, i + 1);
+  const auto t0 = std::chrono::steady_clock::now();
+  const ValidationReport r = validate_mesh(m);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(count(r, DefectKind::DuplicateTriangles), n - 1);
+  ASSERT_EQ(r.defect(DefectKind::DuplicateTriangles).examples.size(), 5u);
+  for (const DefectLocation& l : r.defect(DefectKind::DuplicateTriangles).examples) EXPECT_EQ(l.other, 0u);
+  EXPECT_EQ(r.defect(DefectKind::DuplicateTriangles).examples[0].triangle, 1u);
+  EXPECT_TRUE(r.self_intersections_checked);
+  EXPECT_LT(seconds, 5.0);  // quadratic: minutes
+}
+
+// n coplanar triangles that all overlap each other: n(n-1)/2 overlap pairs are counted but only
+// the smallest (a, b) pairs are kept as examples, the same for any number of threads (every
+// pair used to be stored: quadratic memory).
+TEST(Validate, ManyOverlappingPairsKeepOnlyExamples) {
+  TriMesh m;
+  const std::uint32_t n = 1500;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const double e = 1e-4 * i;
+    m.vertices.push_back({e, 0, 0});
+    m.vertices.push_back({1, e, 0});
+    m.vertices.push_back({0, 1 - e, 0});
+    m.add_triangle(3 * i, 3 * i + 1, 3 * i + 2, i, 0);
+  }
+  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> seen;
+  for (unsigned threads : {1u, 3u, 8u}) {
+    ValidationOptions opt;
+    opt.threads = threads;
+    opt.max_examples = 4;
+    const ValidationReport r = validate_mesh(m, opt);
+    EXPECT_EQ(count(r, DefectKind::Overlaps), std::uint64_t(n) * (n - 1) / 2);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> ex;
+    for (const DefectLocation& l : r.defect(DefectKind::Overlaps).examples) ex.push_back({l.triangle, l.other});
+    seen.push_back(ex);
+  }
+  const std::vector<std::pair<std::uint32_t, std::uint32_t>> expected = {{0, 1}, {0, 2}, {0, 3}, {0, 4}};
+  for (const auto& ex : seen) EXPECT_EQ(ex, expected);
+}
+
+TriMesh transformed(TriMesh m, double scale, Vec3 offset = {}) {
+  for (Vec3& v : m.vertices) v = v * scale + offset;
+  return m;
+}
+TriMesh inverted(TriMesh m) {
+  for (Triangle& t : m.triangles) std::swap(t[1], t[2]);
+  return m;
+}
+TriMesh combined(const std::vector<TriMesh>& parts) {
+  TriMesh m;
+  for (const TriMesh& p : parts) {
+    const auto base = std::uint32_t(m.vertices.size());
+    m.vertices.insert(m.vertices.end(), p.vertices.begin(), p.vertices.end());
+    for (const Triangle& t : p.triangles)
+      m.add_triangle(t[0] + base, t[1] + base, t[2] + base, std::uint32_t(m.triangles.size()), 0);
+  }
+  return m;
+}
+
+// The volume used to be summed about the origin: a unit sphere moved to 1e6 lost every digit
+// to cancellation and came out inward (and its inverted copy outward).
+TEST(Validate, VolumeAndOrientationFarFromOrigin) {
+  const TriMesh sphere = test::make_sphere(3);
+  const double v0 = validate_mesh(sphere).volume;
+  for (double d : {1e6, 1e8, 1e10}) {
+    const TriMesh moved = transformed(sphere, 1, {d, -d, d});
+    ValidationReport r = validate_mesh(moved);
+    EXPECT_TRUE(r.is_solid()) << d << "\n" << r.to_text();
+    EXPECT_NEAR(r.volume, v0, 1e-3 * v0) << d;
+    r = validate_mesh(inverted(moved));
+    EXPECT_EQ(count(r, DefectKind::InwardOrientation), 1u) << d;
+    EXPECT_NEAR(r.volume, -v0, 1e-3 * v0) << d;
+  }
+}
+
+// Coordinates near the ends of the double range: the predicates work on a copy scaled by a power
+// of two, and volumes, areas, boxes and locations are reported in the file's units.
+TEST(Validate, ExtremeCoordinatesAreScaledExactly) {
+  const TriMesh a = test::make_box({0, 0, 0}, {1, 1, 1}), b = test::make_box({0.5, 0.5, 0.5}, {1.5, 1.5, 1.5});
+  for (double s : {1e200, 1e-110, 1e-300, 3.4e38}) {
+    ValidationReport r = validate_mesh(transformed(combined({a, b}), s));
+    EXPECT_FALSE(r.is_solid()) << s;
+    EXPECT_GT(count(r, DefectKind::SelfIntersections), 0u) << s;
+    EXPECT_EQ(count(r, DefectKind::Overlaps), 0u) << s;
+    const DefectLocation& l = r.defect(DefectKind::SelfIntersections).examples.at(0);
+    EXPECT_GT(l.point.x, 0.1 * s) << s;
+    EXPECT_LT(l.point.x, 1.5 * s) << s;
+    r = validate_mesh(transformed(a, s));
+    EXPECT_TRUE(r.is_solid()) << s << "\n" << r.to_text();
+    EXPECT_EQ(count(r, DefectKind::Overlaps), 0u) << s;
+    EXPECT_DOUBLE_EQ(r.box.hi.x, s);
+    if (s * s * s > 1e-300 && s * s * s < 1e300) EXPECT_NEAR(r.volume, s * s * s, 1e-12 * s * s * s) << s;
+    if (s > 1e150) EXPECT_EQ(r.volume, HUGE_VAL);  // 1e600 is beyond double
+    EXPECT_FALSE(std::isnan(r.volume)) << s;
+    EXPECT_FALSE(std::isnan(r.area)) << s;
+    r = validate_mesh(inverted(transformed(a, s)));
+    EXPECT_EQ(count(r, DefectKind::InwardOrientation), 1u) << s;
+  }
+}
+
+// With several shells the total volume says little: an inward shell beside an outward one, or an
+// outward shell inside another (winding number 2 inside it), used to pass. A cavity (an inward
+// shell inside an outward one) is a valid solid.
+TEST(Validate, ShellOrientationAndNesting) {
+  const TriMesh big = test::make_box({0, 0, 0}, {3, 3, 3}), small = test::make_box({1, 1, 1}, {2, 2, 2}),
+                apart = test::make_box({5, 0, 0}, {6, 1, 1});
+  ValidationReport r = validate_mesh(combined({big, inverted(small)}));
+  EXPECT_TRUE(r.is_solid()) << r.to_text();
+  EXPECT_DOUBLE_EQ(r.volume, 26.0);
+  EXPECT_TRUE(validate_mesh(combined({big, apart})).is_solid());
+  EXPECT_TRUE(validate_mesh(combined({inverted(small), big})).is_solid());  // shell order does not matter
+  // An island in the cavity is fine too.
+  EXPECT_TRUE(validate_mesh(combined({big, inverted(small), test::make_box({1.2, 1.2, 1.2}, {1.8, 1.8, 1.8})})).is_solid());
+  for (const TriMesh& bad : {combined({big, inverted(apart)}), combined({big, small}), combined({small, big}),
+                             combined({inverted(big), small}), combined({big, inverted(small), inverted(test::make_box({1.2, 1.2, 1.2}, {1.8, 1.8, 1.8}))})}) {
+    r = validate_mesh(bad);
+    EXPECT_FALSE(r.is_solid()) << r.to_text();
+    EXPECT_GE(count(r, DefectKind::ShellOrientation), 1u) << r.to_text();
+    EXPECT_NE(r.summary().find("orientation or nesting"), std::string::npos) << r.summary();
+  }
+  // Exactly one shell is wrong and it is the one named.
+  r = validate_mesh(combined({big, inverted(apart)}));
+  EXPECT_EQ(count(r, DefectKind::ShellOrientation), 1u);
+  EXPECT_GE(r.defect(DefectKind::ShellOrientation).examples.at(0).triangle, 12u);
+  // Many shells (the hierarchical winding number): 4 x 4 x 4 fine boxes, one inverted, one with
+  // an outward box nested inside.
+  std::vector<TriMesh> parts;
+  for (int i = 0; i < 64; ++i) {
+    const Vec3 lo{3.0 * (i % 4), 3.0 * (i / 4 % 4), 3.0 * (i / 16)};
+    parts.push_back(test::make_fine_box(10, lo, lo + Vec3{2, 2, 2}));
+  }
+  EXPECT_TRUE(validate_mesh(combined(parts)).is_solid());
+  parts[5] = inverted(parts[5]);
+  parts.push_back(test::make_box({30.5, 0.5, 0.5}, {31.5, 1.5, 1.5}));  // apart: fine
+  parts.push_back(test::make_box({9.5, 9.5, 9.5}, {10.5, 10.5, 10.5}));  // inside box 63
+  r = validate_mesh(combined(parts));
+  EXPECT_EQ(count(r, DefectKind::ShellOrientation), 2u) << r.to_text();
+  // Many shells nested in a big one (too many exact solid angles: the hierarchical winding
+  // number): 100 cavities are fine, an outward box among them is not.
+  parts.assign(1, test::make_fine_box(90, {0, 0, 0}, {21, 21, 21}));
+  for (int i = 0; i < 100; ++i) {
+    const Vec3 lo{1.0 + 2 * (i % 10), 1.0 + 2 * (i / 10), 10};
+    parts.push_back(inverted(test::make_box(lo, lo + Vec3{1, 1, 1})));
+  }
+  EXPECT_TRUE(validate_mesh(combined(parts)).is_solid());
+  parts.push_back(test::make_box({5.2, 5.2, 5}, {5.8, 5.8, 6}));
+  r = validate_mesh(combined(parts));
+  EXPECT_EQ(count(r, DefectKind::ShellOrientation), 1u) << r.summary();
+  const Vec3 where = r.defect(DefectKind::ShellOrientation).examples.at(0).point;
+  EXPECT_TRUE(where.z >= 5 && where.z <= 6 && where.x >= 5.2 && where.x <= 5.8) << where.x << " " << where.z;
+}
+
+// Meshes without volume are not solids: only collapsed triangles (also after a large weld
+// tolerance), collinear "tetrahedra", a flat closed shell; a thin sliver is still a solid.
+TEST(Validate, DegenerateMeshesAreNotSolids) {
+  TriMesh point;
+  point.vertices = {{0, 0, 0}};
+  point.add_triangle(0, 0, 0, 0, 1);
+  ValidationReport r = validate_mesh(point);
+  EXPECT_FALSE(r.is_solid());
+  EXPECT_NE(r.summary().find("no triangles with three distinct vertices"), std::string::npos) << r.summary();
+  ValidationOptions weld;
+  weld.weld_tolerance = 10;
+  EXPECT_FALSE(validate_mesh(test::make_box(), weld).is_solid());
+
+  TriMesh line;  // four collinear vertices, closed and consistently oriented
+  line.vertices = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}};
+  line.add_triangle(0, 1, 2, 0, 0), line.add_triangle(0, 3, 1, 1, 0), line.add_triangle(1, 3, 2, 2, 0),
+      line.add_triangle(0, 2, 3, 3, 0);
+  r = validate_mesh(line);
+  EXPECT_FALSE(r.is_solid()) << r.to_text();
+  EXPECT_EQ(count(r, DefectKind::DegenerateShells), 1u);
+
+  TriMesh sheet;  // a square, triangulated differently on its two sides
+  sheet.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  sheet.add_triangle(0, 1, 2, 0, 0), sheet.add_triangle(0, 2, 3, 1, 0), sheet.add_triangle(0, 3, 1, 2, 0),
+      sheet.add_triangle(1, 3, 2, 3, 0);
+  ValidationOptions fast;
+  fast.self_intersections = false;
+  r = validate_mesh(sheet, fast);
+  EXPECT_FALSE(r.is_solid()) << r.to_text();
+  EXPECT_EQ(count(r, DefectKind::DegenerateShells), 1u);
+
+  TriMesh sliver;
+  sliver.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.3, 0.3, 1e-12}};
+  sliver.add_triangle(0, 2, 1, 0, 0), sliver.add_triangle(0, 1, 3, 1, 0), sliver.add_triangle(1, 2, 3, 2, 0),
+      sliver.add_triangle(2, 0, 3, 3, 0);
+  r = validate_mesh(sliver);
+  EXPECT_TRUE(r.is_solid()) << r.to_text();
+  EXPECT_GT(r.volume, 0);
+}
+
+// File names are bytes: --json escaped only quotes, backslashes and control characters and
+// passed other bytes through, so a Latin-1 name gave invalid JSON. Well-formed UTF-8 passes;
+// any other byte becomes the escape of U+00XX.
+TEST(Validate, JsonFileNameIsValidUtf8) {
+  ValidationReport r = validate_mesh(test::make_box());
+  r.file = std::string("we\"ird\\\n\t") + "caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80" +  // UTF-8: 2, 3, 4 bytes
+           " lat\xe9n \xff \xc0\xaf \xed\xa0\x80 \xf4\x90\x80\x80 \xe2\x82.obj";     // invalid
+  const std::string j = r.to_json();
+  const std::string expected =
+      "\"file\": \"we\\\"ird\\\\\\u000a\\u0009caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80 lat\\u00e9n \\u00ff "
+      "\\u00c0\\u00af \\u00ed\\u00a0\\u0080 \\u00f4\\u0090\\u0080\\u0080 \\u00e2\\u0082.obj\",";
+  EXPECT_NE(j.find(expected), std::string::npos) << j.substr(0, 300);
+}
+
+// frep check's numeric options: a NaN or infinite weld tolerance and thread counts outside
+// 0..1024 are usage errors (exit 2), not a silent weld of nothing or an abort.
+TEST(Validate, CheckRejectsBadNumericOptions) {
+  const std::string dir = ::testing::TempDir() + "frep_check_opts_" + std::to_string(::getpid());
+  std::filesystem::create_directories(dir);
+  const std::string file = dir + "/box.obj";
+  {
+    std::ofstream f(file);
+    const TriMesh b = test::make_box();
+    for (const Vec3& v : b.vertices) f << "v " << v.x << " " << v.y << " " << v.z << "\n";
+    for (const Triangle& t : b.triangles) f << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
+  }
+  auto code = [&](const std::string& args) {
+    const std::string cmd = std::string("'") + FREP_CLI_PATH + "' check '" + file + "' " + args + " >/dev/null 2>&1";
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  EXPECT_EQ(code(""), 0);
+  EXPECT_EQ(code("--weld-tolerance 0.5 --threads 1024"), 0);
+  EXPECT_EQ(code("--weld-tolerance 5"), 4);  // everything merges: no volume left
+  for (const char* bad : {"--weld-tolerance nan", "--weld-tolerance NaN", "--weld-tolerance inf",
+                          "--weld-tolerance -1", "--weld-tolerance x", "--threads 1025", "--threads 100000",
+                          "--threads -1"})
+    EXPECT_EQ(code(bad), 2) << bad;
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

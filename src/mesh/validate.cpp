@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "frep/mesh/bvh.hpp"
+#include "frep/mesh/mesh_distance.hpp"
 #include "frep/mesh/weld.hpp"
 #include "predicates.hpp"
 #include "tri_tri.hpp"
@@ -28,6 +29,8 @@ const KindInfo kKinds[kDefectKinds] = {
     {"non_manifold_vertices", "non-manifold (pinched) vertices", true},
     {"inconsistent_orientation", "inconsistently oriented edges", true},
     {"inward_orientation", "inward orientation (negative volume)", true},
+    {"shell_orientation", "shells with inconsistent orientation or nesting", true},
+    {"degenerate_shells", "degenerate (flat, zero-volume) shells", true},
     {"self_intersections", "crossing triangle pairs (self-intersections)", true},
     {"overlaps", "coplanar overlapping or folded triangle pairs", true},
     {"duplicate_triangles", "duplicate triangles", true},
@@ -57,9 +60,14 @@ class UnionFind {
 
 struct Collector {
   ValidationReport& r;
-  const TriMesh& m;  // welded; triangle indices equal the file's
+  const TriMesh& m;  // welded and scaled by 2^-exponent; triangle indices equal the file's
   const std::vector<std::uint32_t>& original_of_welded;
   std::size_t max_examples;
+  int exponent;  // the file's coordinates are m's times 2^exponent
+
+  Vec3 unscale(const Vec3& p) const {
+    return {std::ldexp(p.x, exponent), std::ldexp(p.y, exponent), std::ldexp(p.z, exponent)};
+  }
 
   Defect& d(DefectKind k) { return r.defects[static_cast<int>(k)]; }
   DefectLocation at_triangle(std::uint32_t t) const {
@@ -67,7 +75,7 @@ struct Collector {
     l.triangle = t;
     l.face = m.face_source[t];
     l.line = m.face_line[t];
-    l.point = (m.corner(t, 0) + m.corner(t, 1) + m.corner(t, 2)) / 3.0;
+    l.point = unscale((m.corner(t, 0) + m.corner(t, 1) + m.corner(t, 2)) / 3.0);
     return l;
   }
   void add(DefectKind k, const DefectLocation& l) {
@@ -76,6 +84,15 @@ struct Collector {
     if (x.examples.size() < max_examples) x.examples.push_back(l);
   }
 };
+
+// Signed solid angle of triangle abc seen from p (Van Oosterom and Strackee), positive when p is
+// on the side opposite to the right-hand normal: sums to 4 pi inside a closed outward surface.
+double solid_angle(const Vec3& p, const Vec3& a0, const Vec3& b0, const Vec3& c0) {
+  const Vec3 a = a0 - p, b = b0 - p, c = c0 - p;
+  const double la = length(a), lb = length(b), lc = length(c);
+  const double den = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb;
+  return 2 * std::atan2(dot(a, cross(b, c)), den);
+}
 
 }  // namespace
 
@@ -90,11 +107,25 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
   r.triangles = raw.triangles.size();
   for (int k = 0; k < kDefectKinds; ++k) r.defects.push_back({static_cast<DefectKind>(k), 0, {}});
 
-  const WeldResult w = weld(raw, {opt.weld_tolerance});
-  const TriMesh& m = w.mesh;
+  WeldResult w = weld(raw, {opt.weld_tolerance});
+  TriMesh& m = w.mesh;
   r.welded_vertices = m.vertices.size();
   r.box = bounding_box(m);
-  Collector c{r, m, w.original_of_welded, opt.max_examples};
+  // Everything below works on coordinates scaled by a power of two (exact) so that the largest
+  // magnitude is in [1/2, 1): the exact predicates' expansions neither overflow (1e200) nor
+  // lose bits to underflow (1e-110), and the volume's triple products stay finite. Lengths,
+  // areas and volumes are scaled back when reported.
+  int exponent = 0;
+  {
+    double big = 0;
+    for (const Vec3& v : m.vertices)
+      for (double x : {v.x, v.y, v.z})
+        if (std::isfinite(x)) big = std::max(big, std::fabs(x));
+    if (big > 0) std::frexp(big, &exponent);
+    if (exponent != 0)
+      for (Vec3& v : m.vertices) v = {std::ldexp(v.x, -exponent), std::ldexp(v.y, -exponent), std::ldexp(v.z, -exponent)};
+  }
+  Collector c{r, m, w.original_of_welded, opt.max_examples, exponent};
   const std::size_t nt = m.triangles.size(), nv = m.vertices.size();
 
   // Vertices: unused in the file, and duplicates merged by welding.
@@ -113,9 +144,9 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
     }
   }
 
-  // Triangles: collapsed (repeated index), zero area (exactly collinear), needles; area, volume.
+  // Triangles: collapsed (repeated index), zero area (exactly collinear), needles; area.
   std::vector<char> usable(nt, 1);  // non-collapsed: take part in topology
-  std::vector<char> flat(nt, 0);    // zero area: skipped by the intersection test
+  std::vector<char> flat(nt, 0);    // zero area or a duplicate: skipped by the intersection test
   for (std::uint32_t t = 0; t < nt; ++t) {
     const Triangle& tr = m.triangles[t];
     if (tr[0] == tr[1] || tr[1] == tr[2] || tr[0] == tr[2]) {
@@ -127,7 +158,6 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
     const Vec3 a = m.vertices[tr[0]], b = m.vertices[tr[1]], cc = m.vertices[tr[2]];
     const Vec3 n = cross(b - a, cc - a);
     r.area += 0.5 * length(n);
-    r.volume += dot(a, cross(b, cc)) / 6.0;
     const bool collinear = exact::orient2d(a.x, a.y, b.x, b.y, cc.x, cc.y) == 0 &&
                            exact::orient2d(a.y, a.z, b.y, b.z, cc.y, cc.z) == 0 &&
                            exact::orient2d(a.z, a.x, b.z, b.x, cc.z, cc.x) == 0;
@@ -140,7 +170,9 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
     if (4 * std::sqrt(3.0) * 0.5 * length(n) < opt.needle_quality * e2) c.add(DefectKind::NeedleTriangles, c.at_triangle(t));
   }
 
-  // Duplicate triangles: same vertex set as an earlier triangle.
+  // Duplicate triangles: same vertex set as an earlier triangle. Sorted once; each run of equal
+  // keys names its first triangle. Copies are left out of the intersection test, where they
+  // would pair with every other copy.
   {
     std::vector<std::pair<Triangle, std::uint32_t>> keys;
     keys.reserve(nt);
@@ -151,14 +183,14 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
         keys.push_back({s, t});
       }
     std::sort(keys.begin(), keys.end());
-    for (std::size_t i = 1; i < keys.size(); ++i)
-      if (keys[i].first == keys[i - 1].first) {
-        DefectLocation l = c.at_triangle(keys[i].second);
-        std::size_t j = i;
-        while (j > 0 && keys[j - 1].first == keys[i].first) --j;
-        l.other = keys[j].second;
+    for (std::size_t i = 0, j; i < keys.size(); i = j) {
+      for (j = i + 1; j < keys.size() && keys[j].first == keys[i].first; ++j) {
+        DefectLocation l = c.at_triangle(keys[j].second);
+        l.other = keys[i].second;
         c.add(DefectKind::DuplicateTriangles, l);
+        flat[keys[j].second] = 1;
       }
+    }
   }
 
   // Edges: sort directed half-edges by their undirected key.
@@ -190,7 +222,7 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
     const std::uint32_t a = std::uint32_t(he[i].key >> 32), b = std::uint32_t(he[i].key);
     auto loc = [&] {
       DefectLocation l = c.at_triangle(he[i].tri);
-      l.point = (m.vertices[a] + m.vertices[b]) * 0.5;
+      l.point = c.unscale((m.vertices[a] + m.vertices[b]) * 0.5);
       l.vertex = w.original_of_welded[a];
       if (count > 1) l.other = he[i + 1].tri;
       return l;
@@ -209,8 +241,53 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
     }
     i = j;
   }
-  for (std::uint32_t t = 0; t < nt; ++t)
-    if (usable[t] && comp.find(t) == t) ++r.components;
+  // Shells (edge-connected pieces): dense ids in order of their first triangle (the union-find
+  // root is the smallest triangle index), boxes, and signed volumes summed about the shell's box
+  // center rather than the origin, where far from the origin the tetrahedra cancel
+  // catastrophically (a unit sphere at 1e6 came out with the wrong sign).
+  struct Shell {
+    Box3 box;
+    double volume = 0;
+    std::uint32_t first = kNone;
+    std::uint32_t largest = kNone;  // its largest non-degenerate triangle
+    double largest_n2 = 0;          // |cross|^2 of that triangle
+    bool spatial = false;           // its corners are not all in one plane (exact)
+  };
+  std::vector<Shell> shells;
+  std::vector<std::uint32_t> shell_of(nt, kNone);
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    if (!usable[t]) continue;
+    const std::uint32_t root = comp.find(t);
+    if (root == t) {
+      shell_of[t] = std::uint32_t(shells.size());
+      shells.emplace_back().first = t;
+    } else {
+      shell_of[t] = shell_of[root];
+    }
+    for (std::uint32_t v : m.triangles[t]) shells[shell_of[t]].box.add(m.vertices[v]);
+  }
+  r.components = shells.size();
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    if (!usable[t]) continue;
+    Shell& s = shells[shell_of[t]];
+    const Vec3 o = s.box.center();
+    const Vec3 a = m.corner(t, 0) - o, b = m.corner(t, 1) - o, cc = m.corner(t, 2) - o;
+    s.volume += dot(a, cross(b, cc)) / 6.0;
+    if (flat[t]) continue;
+    const double n2 = length2(cross(b - a, cc - a));
+    if (s.largest == kNone || n2 > s.largest_n2) s.largest = t, s.largest_n2 = n2;
+  }
+  // A shell encloses volume only if its corners span space: compare every corner with the plane
+  // of the shell's largest triangle until one is off it (usually the first few).
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    if (!usable[t]) continue;
+    Shell& s = shells[shell_of[t]];
+    if (s.spatial || s.largest == kNone) continue;
+    const Vec3 a = m.corner(s.largest, 0), b = m.corner(s.largest, 1), cc = m.corner(s.largest, 2);
+    for (int k = 0; k < 3 && !s.spatial; ++k) s.spatial = exact::orient3d(a, b, cc, m.corner(t, k)) != 0;
+  }
+  double volume = 0;
+  for (const Shell& s : shells) volume += s.volume;
 
   // Non-manifold vertices: the triangles around a vertex, joined through manifold edges at it,
   // must form a single fan.
@@ -257,7 +334,7 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
       if (groups > 1) {
         DefectLocation l = c.at_triangle(incident[b]);
         l.vertex = w.original_of_welded[v];
-        l.point = m.vertices[v];
+        l.point = c.unscale(m.vertices[v]);
         c.add(DefectKind::NonManifoldVertices, l);
       }
     }
@@ -276,9 +353,14 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
       }
     const std::int64_t chi = std::int64_t(used_vertices) - std::int64_t(r.edges) + std::int64_t(faces);
     r.genus = (2 * std::int64_t(r.components) - chi) / 2;
-    if (r.volume < 0) {
+    // Each shell must enclose volume; with several, their orientations and nesting are checked
+    // below by winding numbers, once it is known that they do not cross.
+    for (const Shell& s : shells)
+      if (s.largest == kNone || !s.spatial || s.volume == 0) c.add(DefectKind::DegenerateShells, c.at_triangle(s.first));
+    if (volume < 0) {
       DefectLocation l;
-      l.point = r.box.center();
+      if (shells.size() == 1) l = c.at_triangle(shells[0].first);
+      else l.point = r.box.lo * 0.5 + r.box.hi * 0.5;
       c.add(DefectKind::InwardOrientation, l);
     }
   }
@@ -286,38 +368,168 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
   // Self-intersections: candidate pairs from the BVH, classified exactly.
   if (opt.self_intersections && nt > 1) {
     r.self_intersections_checked = true;
-    const TriangleBvh bvh(m);
-    unsigned threads = opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency());
-    struct Found {
-      std::uint32_t a, b;
-      Contact kind;
+    // Only triangles that can intersect anything go into the hierarchy.
+    std::vector<std::uint32_t> live;
+    for (std::uint32_t t = 0; t < nt; ++t)
+      if (!flat[t]) live.push_back(t);
+    TriMesh sub;
+    if (live.size() < nt) {
+      sub.vertices = m.vertices;
+      for (std::uint32_t t : live) sub.triangles.push_back(m.triangles[t]);
+    }
+    const TriangleBvh bvh(live.size() < nt ? sub : m);
+    const unsigned threads =
+        std::min(1024u, opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency()));
+    // Per thread and kind of contact: a count, and the smallest (a, b) pairs seen so far in a
+    // max-heap of at most max_examples, so memory does not grow with the number of pairs and
+    // the examples do not depend on how pairs were spread over the threads.
+    using Pair = std::uint64_t;  // a << 32 | b, a < b
+    struct alignas(64) PerThread {
+      std::uint64_t count[3] = {0, 0, 0};
+      std::vector<Pair> best[3];
     };
-    std::vector<std::vector<Found>> found(threads);
+    std::vector<PerThread> found(threads);
+    const std::size_t keep = opt.max_examples;
     bvh.for_each_overlapping_pair_parallel(threads, [&](std::uint32_t a, std::uint32_t b, unsigned th) {
-      if (flat[a] || flat[b]) return;
+      a = live[a], b = live[b];
       const Triangle &ta = m.triangles[a], &tb = m.triangles[b];
       const Vec3 p[3] = {m.vertices[ta[0]], m.vertices[ta[1]], m.vertices[ta[2]]};
       const Vec3 q[3] = {m.vertices[tb[0]], m.vertices[tb[1]], m.vertices[tb[2]]};
       const unsigned pi[3] = {ta[0], ta[1], ta[2]}, qi[3] = {tb[0], tb[1], tb[2]};
       const Contact k = classify_triangle_pair(p, pi, q, qi);
-      if (k != Contact::None) found[th].push_back({std::min(a, b), std::max(a, b), k});
+      if (k == Contact::None) return;
+      const int slot = k == Contact::Cross ? 0 : (k == Contact::Overlap ? 1 : 2);
+      PerThread& f = found[th];
+      ++f.count[slot];
+      if (keep == 0) return;
+      const Pair key = (Pair(std::min(a, b)) << 32) | std::max(a, b);
+      std::vector<Pair>& h = f.best[slot];
+      if (h.size() < keep) {
+        h.push_back(key);
+        std::push_heap(h.begin(), h.end());
+      } else if (key < h.front()) {
+        std::pop_heap(h.begin(), h.end());
+        h.back() = key;
+        std::push_heap(h.begin(), h.end());
+      }
     });
-    std::vector<Found> all;
-    for (auto& f : found) all.insert(all.end(), f.begin(), f.end());
-    std::sort(all.begin(), all.end(), [](const Found& x, const Found& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
-    for (const Found& f : all) {
-      DefectLocation l = c.at_triangle(f.a);
-      l.other = f.b;
-      c.add(f.kind == Contact::Cross ? DefectKind::SelfIntersections
-                                      : (f.kind == Contact::Overlap ? DefectKind::Overlaps : DefectKind::TouchingPairs),
-            l);
+    const DefectKind kinds[3] = {DefectKind::SelfIntersections, DefectKind::Overlaps, DefectKind::TouchingPairs};
+    for (int slot = 0; slot < 3; ++slot) {
+      std::vector<Pair> all;
+      Defect& d = c.d(kinds[slot]);
+      for (PerThread& f : found) {
+        d.count += f.count[slot];
+        all.insert(all.end(), f.best[slot].begin(), f.best[slot].end());
+      }
+      std::sort(all.begin(), all.end());
+      for (std::size_t i = 0; i < all.size() && d.examples.size() < keep; ++i) {
+        DefectLocation l = c.at_triangle(std::uint32_t(all[i] >> 32));
+        l.other = std::uint32_t(all[i]);
+        d.examples.push_back(l);
+      }
     }
   }
+  // Several closed, consistently oriented shells that do not cross: just outside each shell's
+  // largest triangle (on its normal's side) the winding number of the whole mesh must be 0. It
+  // is -1 there for an inward shell that is not a cavity, and 2 - 1 = 1 for an outward shell
+  // nested in another outward one (or a cavity inside a cavity).
+  if (closed_manifold && c.d(DefectKind::InconsistentOrientation).count == 0 && shells.size() > 1 &&
+      c.d(DefectKind::SelfIntersections).count == 0 && c.d(DefectKind::Overlaps).count == 0) {
+    std::vector<std::pair<std::uint32_t, Vec3>> probes;  // (shell, point)
+    for (std::uint32_t i = 0; i < shells.size(); ++i) {
+      const Shell& s = shells[i];
+      if (s.largest == kNone || !s.spatial) continue;
+      const Vec3 a = m.corner(s.largest, 0), b = m.corner(s.largest, 1), cc = m.corner(s.largest, 2);
+      const Vec3 n = cross(b - a, cc - a), g = (a + b + cc) / 3.0;
+      // Offset from the centroid by a small fraction of the inradius (|n| / perimeter), doubled
+      // until the point is strictly on the normal's side by the exact predicate.
+      double delta = 1e-3 * length(n) / (length(b - a) + length(cc - b) + length(a - cc));
+      const Vec3 u = n / length(n);
+      for (int it = 0; it < 64; ++it, delta *= 2) {
+        const Vec3 p = g + u * delta;
+        if (exact::orient3d(a, b, cc, p) > 0) {
+          probes.push_back({i, p});
+          break;
+        }
+      }
+    }
+    // A closed shell's winding number is 0 outside its box, so only the shells whose boxes
+    // contain a probe count: found through a hierarchy over the shell boxes (each box as a
+    // "triangle" from its low to its high corner), then summed exactly over their triangles.
+    // Disjoint shells cost about one pass over the mesh; if nesting makes the exact sums too
+    // expensive, the whole mesh's hierarchical (far-field dipole) winding number is used.
+    std::vector<std::uint32_t> shell_start(shells.size() + 1, 0), shell_tris;
+    for (std::uint32_t t = 0; t < nt; ++t)
+      if (!flat[t]) ++shell_start[shell_of[t] + 1];
+    for (std::size_t i = 0; i < shells.size(); ++i) shell_start[i + 1] += shell_start[i];
+    shell_tris.resize(shell_start.back());
+    {
+      std::vector<std::uint32_t> fill(shell_start.begin(), shell_start.end() - 1);
+      for (std::uint32_t t = 0; t < nt; ++t)
+        if (!flat[t]) shell_tris[fill[shell_of[t]]++] = t;
+    }
+    TriMesh box_mesh;
+    for (std::uint32_t i = 0; i < shells.size(); ++i) {
+      box_mesh.vertices.push_back(shells[i].box.lo);
+      box_mesh.vertices.push_back(shells[i].box.hi);
+      box_mesh.triangles.push_back({2 * i, 2 * i + 1, 2 * i});
+    }
+    const TriangleBvh box_bvh(box_mesh);
+    auto inside = [](const Box3& b, const Vec3& p) {
+      return b.lo.x <= p.x && p.x <= b.hi.x && b.lo.y <= p.y && p.y <= b.hi.y && b.lo.z <= p.z && p.z <= b.hi.z;
+    };
+    std::vector<std::vector<std::uint32_t>> around(probes.size());  // shells whose box holds the probe
+    std::size_t work = 0;
+    {
+      const auto& nodes = box_bvh.nodes();
+      std::vector<std::uint32_t> stack;
+      for (std::size_t k = 0; k < probes.size(); ++k) {
+        const Vec3& p = probes[k].second;
+        stack.assign(1, 0);
+        while (!stack.empty()) {
+          const TriangleBvh::Node& n = nodes[stack.back()];
+          stack.pop_back();
+          if (!(n.lo[0] <= p.x && p.x <= n.hi[0] && n.lo[1] <= p.y && p.y <= n.hi[1] && n.lo[2] <= p.z &&
+                p.z <= n.hi[2]))
+            continue;
+          if (!n.leaf()) {
+            stack.push_back(n.index);
+            stack.push_back(n.index + 1);
+            continue;
+          }
+          for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
+            const std::uint32_t j = box_bvh.order()[i];
+            if (inside(shells[j].box, p)) around[k].push_back(j), work += shell_start[j + 1] - shell_start[j];
+          }
+        }
+      }
+    }
+    std::vector<double> wn(probes.size(), 0.0);
+    if (work <= (std::size_t(1) << 23)) {
+      for (std::size_t k = 0; k < probes.size(); ++k) {
+        double sum = 0;
+        for (std::uint32_t j : around[k])
+          for (std::uint32_t i = shell_start[j]; i < shell_start[j + 1]; ++i) {
+            const std::uint32_t t = shell_tris[i];
+            sum += solid_angle(probes[k].second, m.corner(t, 0), m.corner(t, 1), m.corner(t, 2));
+          }
+        wn[k] = sum / (4 * 3.14159265358979323846);
+      }
+    } else {
+      const MeshDistance md(m);
+      for (std::size_t k = 0; k < probes.size(); ++k) wn[k] = md.winding_number(probes[k].second);
+    }
+    for (std::size_t k = 0; k < probes.size(); ++k)
+      if (!(std::fabs(wn[k]) < 0.5)) c.add(DefectKind::ShellOrientation, c.at_triangle(shells[probes[k].first].largest));
+  }
+
+  r.area = std::ldexp(r.area, 2 * exponent);
+  r.volume = std::ldexp(volume, 3 * exponent);
   return r;
 }
 
 bool ValidationReport::is_solid() const {
-  if (triangles == 0) return false;
+  if (triangles == 0 || components == 0) return false;
   for (const Defect& d : defects)
     if (defect_is_fatal(d.kind) && d.count > 0) return false;
   return true;
@@ -330,16 +542,48 @@ std::string fmt_g(double v) {
   return buf;
 }
 std::string fmt_point(const Vec3& p) { return "(" + fmt_g(p.x) + ", " + fmt_g(p.y) + ", " + fmt_g(p.z) + ")"; }
+// Length of the well-formed UTF-8 sequence starting at s[i] (RFC 3629: no overlong forms, no
+// surrogates, nothing beyond U+10FFFF), or 0 if there is none.
+std::size_t utf8_length(const std::string& s, std::size_t i) {
+  const auto at = [&](std::size_t k) { return k < s.size() ? static_cast<unsigned char>(s[k]) : 0u; };
+  const unsigned b = at(i);
+  std::size_t n;
+  unsigned lo = 0x80, hi = 0xbf;  // allowed range of the second byte
+  if (b >= 0xc2 && b <= 0xdf) n = 2;
+  else if (b >= 0xe0 && b <= 0xef) n = 3, lo = b == 0xe0 ? 0xa0 : 0x80, hi = b == 0xed ? 0x9f : 0xbf;
+  else if (b >= 0xf0 && b <= 0xf4) n = 4, lo = b == 0xf0 ? 0x90 : 0x80, hi = b == 0xf4 ? 0x8f : 0xbf;
+  else return 0;
+  if (at(i + 1) < lo || at(i + 1) > hi) return 0;
+  for (std::size_t k = 2; k < n; ++k)
+    if (at(i + k) < 0x80 || at(i + k) > 0xbf) return 0;
+  return n;
+}
+// JSON string contents: quotes, backslashes and control characters escaped; well-formed UTF-8
+// passes through; any other byte (a file name in Latin-1...) becomes the escape of U+00XX, its
+// Latin-1 reading, so the output is always valid JSON.
 std::string json_escape(const std::string& s) {
   std::string o;
-  for (char ch : s) {
+  for (std::size_t i = 0; i < s.size();) {
+    const char ch = s[i];
     const unsigned char u = static_cast<unsigned char>(ch);
-    if (ch == '"' || ch == '\\') o += '\\', o += ch;
-    else if (u < 0x20) {
+    if (ch == '"' || ch == '\\') {
+      o += '\\', o += ch, ++i;
+    } else if (u < 0x80) {
+      if (u < 0x20) {
+        char buf[8];
+        std::snprintf(buf, sizeof buf, "\\u%04x", u);
+        o += buf;
+      } else {
+        o += ch;
+      }
+      ++i;
+    } else if (const std::size_t n = utf8_length(s, i)) {
+      o.append(s, i, n), i += n;
+    } else {
       char buf[8];
       std::snprintf(buf, sizeof buf, "\\u%04x", u);
-      o += buf;
-    } else o += ch;
+      o += buf, ++i;
+    }
   }
   return o;
 }
@@ -364,6 +608,7 @@ std::string ValidationReport::summary() const {
       first = false;
     }
   if (triangles == 0) s += " no triangles";
+  else if (components == 0) s += " no triangles with three distinct vertices";
   return s;
 }
 

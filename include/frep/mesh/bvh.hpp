@@ -39,8 +39,10 @@ class TriangleBvh {
   template <class F>
   void for_each_overlapping_pair(F&& f) const;
 
-  // The same pairs, split into independent jobs: f is called with (a, b) from `threads` threads,
-  // each with its own thread index as a third argument.
+  // The same pairs, split into independent jobs: f is called with (a, b) from up to `threads`
+  // threads (fewer if there are fewer jobs or threads cannot be started), each with its own
+  // thread index (< threads) as a third argument. Which thread sees which pair varies from run
+  // to run. An exception thrown by f is rethrown after all threads have been joined.
   template <class F>
   void for_each_overlapping_pair_parallel(unsigned threads, F&& f) const;
 
@@ -105,6 +107,9 @@ void TriangleBvh::for_each_overlapping_pair(F&& f) const {
 
 }  // namespace frep
 
+#include <algorithm>
+#include <atomic>
+#include <exception>
 #include <thread>
 
 namespace frep {
@@ -145,18 +150,36 @@ void TriangleBvh::for_each_overlapping_pair_parallel(unsigned threads, F&& f) co
     }
     jobs.swap(next);
   }
-  if (threads < 1) threads = 1;
-  auto run = [&](unsigned t) {
-    auto g = [&](std::uint32_t a, std::uint32_t b) { f(a, b, t); };
-    for (std::size_t k = t; k < jobs.size(); k += threads) {
-      if (jobs[k].within) pairs_within(jobs[k].a, g);
-      else pairs_below(jobs[k].a, jobs[k].b, g);
+  // No more threads than jobs. Jobs are taken from a shared counter, so a thread that cannot be
+  // started only means fewer workers; an exception thrown by f (bad_alloc...) stops the others
+  // and is rethrown here once every thread has been joined.
+  threads = static_cast<unsigned>(std::clamp<std::size_t>(threads, 1, jobs.size()));
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> failed{false};
+  std::vector<std::exception_ptr> errors(threads);
+  auto run = [&](unsigned t) noexcept {
+    try {
+      auto g = [&](std::uint32_t a, std::uint32_t b) { f(a, b, t); };
+      for (std::size_t k; !failed.load(std::memory_order_relaxed) && (k = next.fetch_add(1)) < jobs.size();) {
+        if (jobs[k].within) pairs_within(jobs[k].a, g);
+        else pairs_below(jobs[k].a, jobs[k].b, g);
+      }
+    } catch (...) {
+      errors[t] = std::current_exception();
+      failed = true;
     }
   };
   std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(run, t);
+  try {
+    pool.reserve(threads - 1);
+    for (unsigned t = 1; t < threads; ++t) pool.emplace_back(run, t);
+  } catch (...) {
+    // Out of threads or memory: the threads already running and this one share the jobs.
+  }
   run(0);
   for (auto& th : pool) th.join();
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
 }
 
 }  // namespace frep

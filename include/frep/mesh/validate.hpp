@@ -16,7 +16,7 @@ struct ValidationOptions {
   bool self_intersections = true;  // run the exact triangle-triangle intersection test
   std::size_t max_examples = 5;    // example locations kept per kind of defect
   double needle_quality = 1e-4;    // triangles with 4*sqrt(3)*area/sum(edge^2) below this are needles
-  unsigned threads = 0;            // worker threads for the intersection test (0: all cores)
+  unsigned threads = 0;            // worker threads for the intersection test (0: all cores, at most 1024)
 };
 
 enum class DefectKind {
@@ -25,6 +25,9 @@ enum class DefectKind {
   NonManifoldVertices,      // vertices whose triangles form several fans (pinched)
   InconsistentOrientation,  // edges whose two triangles traverse them in the same direction
   InwardOrientation,        // closed and consistent, but the enclosed volume is negative
+  ShellOrientation,         // several shells, one of them inward where it should be outward or
+                            // nested inside a shell of the same orientation (winding number 2)
+  DegenerateShells,         // closed shells that enclose no volume (all corners coplanar)
   SelfIntersections,        // pairs of triangles whose interiors cross
   Overlaps,                 // coplanar pairs whose interiors overlap, including folds
   DuplicateTriangles,       // triangles with the same three vertices as an earlier one
@@ -35,7 +38,7 @@ enum class DefectKind {
   UnusedVertices,           // vertices no triangle refers to
   DuplicateVertices,        // vertices at the position of another vertex (merged by welding)
 };
-inline constexpr int kDefectKinds = 14;
+inline constexpr int kDefectKinds = 16;
 
 // Where a defect is: a triangle (index into the file's triangles after fan triangulation, with
 // the face and line it came from), optionally a second triangle, and a point.
@@ -59,14 +62,17 @@ struct ValidationReport {
   std::size_t file_vertices = 0, triangles = 0, welded_vertices = 0, edges = 0;
   std::size_t components = 0;       // edge-connected pieces
   std::optional<std::int64_t> genus;  // total genus, only for closed manifold meshes
-  double volume = 0, area = 0;        // signed volume (positive for outward orientation), area
+  // Signed volume (positive for outward orientation) and area, in the file's units; +-inf when
+  // the true value is beyond the double range (coordinates near 1e200 and up).
+  double volume = 0, area = 0;
   Box3 box;
   bool self_intersections_checked = false;
   std::vector<Defect> defects;  // one entry per DefectKind, in enum order
 
   const Defect& defect(DefectKind k) const { return defects[static_cast<int>(k)]; }
   // True for a closed, manifold, consistently and outward oriented surface without
-  // self-intersections, overlaps or duplicate triangles: usable for exact conversion.
+  // self-intersections, overlaps or duplicate triangles, with at least one usable triangle and
+  // no flat shell: usable for exact conversion.
   bool is_solid() const;
   // One line: "valid solid: ..." or "not a solid: <the defects that make it unusable>".
   std::string summary() const;
