@@ -7,6 +7,7 @@
 #include <numeric>
 #include <thread>
 
+#include "frep/error.hpp"
 #include "frep/mesh/bvh.hpp"
 #include "frep/mesh/mesh_distance.hpp"
 #include "frep/mesh/weld.hpp"
@@ -314,8 +315,10 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
       parent.resize(e - b);
       std::iota(parent.begin(), parent.end(), 0u);
       auto slot = [&](std::uint32_t t) {
-        return static_cast<std::uint32_t>(std::lower_bound(incident.begin() + b, incident.begin() + e, t) -
-                                          (incident.begin() + b));
+        const std::size_t k = static_cast<std::size_t>(
+            std::lower_bound(incident.begin() + b, incident.begin() + e, t) - (incident.begin() + b));
+        FREP_ASSERT(k < e - b, "fan link to a triangle not incident to the vertex");
+        return static_cast<std::uint32_t>(k);
       };
       auto root = [&](std::uint32_t x) {
         while (parent[x] != x) x = parent[x] = parent[parent[x]];
