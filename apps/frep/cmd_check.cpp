@@ -24,15 +24,7 @@ void register_check(CLI::App& app) {
   cmd->add_flag("--json", a->json, "Print the report as JSON");
   cmd->add_option("--weld-tolerance", a->weld_tolerance,
                   "Merge vertices closer than this before checking (default 0: identical positions only)")
-      ->check(CLI::Validator(
-          [](std::string& s) -> std::string {
-            // CLI::NonNegativeNumber lets "nan" through (nan < 0 is false), and inf merges everything.
-            double v = 0;
-            if (!CLI::detail::lexical_cast(s, v) || !std::isfinite(v) || v < 0)
-              return "Value " + s + " is not a finite number >= 0";
-            return {};
-          },
-          "FINITE >= 0"));
+      ->check(finite_non_negative());
   cmd->add_option("--examples", a->examples, "Example locations listed per defect (default 5)");
   cmd->add_flag("--no-self-intersections", a->no_intersections, "Skip the self-intersection test");
   cmd->add_option("--threads", a->threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0u, 1024u));

@@ -12,17 +12,11 @@ inline CLI::Validator finite_non_negative() {
   return CLI::Validator(
       [](std::string& s) -> std::string {
         double v = 0;
-        try {
-          std::size_t used = 0;
-          v = std::stod(s, &used);
-          if (used != s.size()) return "'" + s + "' is not a number";
-        } catch (const std::exception&) {
-          return "'" + s + "' is not a number";
-        }
-        if (!(v >= 0) || !std::isfinite(v)) return "must be a finite number >= 0, got '" + s + "'";
-        return "";
+        if (!CLI::detail::lexical_cast(s, v) || !std::isfinite(v) || v < 0)
+          return "Value " + s + " is not a finite number >= 0";
+        return {};
       },
-      "FINITE>=0");
+      "FINITE >= 0");
 }
 
 void register_info(CLI::App& app);
