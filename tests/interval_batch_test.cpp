@@ -48,7 +48,9 @@ void check_against_scalar(const Tape& tape, std::mt19937_64& rng, int count) {
       ASSERT_TRUE(same_interval(scalar.values()[i], batch.value(i, k)))
           << "instruction " << i << " (" << op_name(tape.ssa()[i].op) << ") box " << k << ": scalar "
           << test::istr(scalar.values()[i]) << " batch " << test::istr(batch.value(i, k));
-      if (op_is_choice(tape.ssa()[i].op)) ASSERT_EQ(scalar.choices()[i], batch.choice(i, k)) << "instruction " << i;
+      if (op_is_choice(tape.ssa()[i].op)) {
+        ASSERT_EQ(scalar.choices()[i], batch.choice(i, k)) << "instruction " << i;
+      }
     }
     const Tape one = tape.simplified(scalar.values(), scalar.choices());
     EXPECT_TRUE(same_tape(one, batch_out[k])) << "box " << k << ": " << one.size() << " vs " << batch_out[k].size();
