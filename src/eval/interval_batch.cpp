@@ -162,7 +162,7 @@ void EvalBoxes(const SsaInstr* code, std::size_t n, float* lo, float* hi, std::u
         const bool binary = op_arity(ins.op) == 2;
         for (int k = 0; k < L; ++k) {
           Choice c;
-          const Interval r = ival::op(ins.op, {alo[k], ahi[k]}, binary ? Interval{blo[k], bhi[k]} : Interval{}, &c);
+          const Interval r = ival::op_generic(ins.op, {alo[k], ahi[k]}, binary ? Interval{blo[k], bhi[k]} : Interval{}, &c);
           olo[k] = r.lo;
           ohi[k] = r.hi;
           if (c == Choice::Left) lbits |= 1u << k;

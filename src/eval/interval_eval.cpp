@@ -4,7 +4,7 @@
 
 namespace frep {
 
-Interval interval_op(Op op, Interval a, Interval b, Choice* choice) { return ival::op(op, a, b, choice); }
+Interval interval_op(Op op, Interval a, Interval b, Choice* choice) { return ival::op_generic(op, a, b, choice); }
 
 Interval IntervalEvaluator::eval(const Tape& tape, Interval x, Interval y, Interval z) {
   const auto& ssa = tape.ssa();
@@ -17,7 +17,12 @@ Interval IntervalEvaluator::eval(const Tape& tape, Interval x, Interval y, Inter
   Interval* v = values_.data();
   Choice* c = choices_.data();
   const SsaInstr* code = ssa.data();
-  // The common ops are inlined here; the rest go through ival::op.
+  // The common ops get their own cases, each calling ival::op with a constant opcode, so that
+  // the (always inlined) op reduces to just that op's code; the rest go through the general call.
+#define FREP_INTERVAL_CASE(OP)                                                                \
+  case Op::OP:                                                                                \
+    v[i] = ival::op(Op::OP, v[ins.a], op_arity(Op::OP) == 2 ? v[ins.b] : Interval{}, &c[i]);  \
+    break;
   for (std::size_t i = 0; i < n; ++i) {
     const SsaInstr& ins = code[i];
     switch (ins.op) {
@@ -25,76 +30,19 @@ Interval IntervalEvaluator::eval(const Tape& tape, Interval x, Interval y, Inter
       case Op::VarY: v[i] = y; break;
       case Op::VarZ: v[i] = z; break;
       case Op::Const: v[i] = Interval::point(ins.value); break;
-      case Op::Add: {
-        const Interval a = v[ins.a], b = v[ins.b];
-        v[i] = ival::add_may_nan(a, b) ? Interval::unknown() : ival::checked(a.lo + b.lo, a.hi + b.hi);
-        break;
-      }
-      case Op::Sub: {
-        const Interval a = v[ins.a], b = v[ins.b];
-        v[i] = ival::sub_may_nan(a, b) ? Interval::unknown() : ival::checked(a.lo - b.hi, a.hi - b.lo);
-        break;
-      }
-      case Op::Neg: {
-        const Interval a = v[ins.a];
-        v[i] = {-a.hi, -a.lo};
-        break;
-      }
-      case Op::Min: {
-        const Interval a = v[ins.a], b = v[ins.b];
-        if (a.is_unknown() || b.is_unknown()) {
-          v[i] = Interval::unknown();
-          c[i] = Choice::Both;
-        } else if (a.hi < b.lo) {
-          v[i] = a;
-          c[i] = Choice::Left;
-        } else if (b.hi < a.lo) {
-          v[i] = b;
-          c[i] = Choice::Right;
-        } else {
-          v[i] = {a.lo < b.lo ? a.lo : b.lo, a.hi < b.hi ? a.hi : b.hi};
-          c[i] = Choice::Both;
-        }
-        break;
-      }
-      case Op::Max: {
-        const Interval a = v[ins.a], b = v[ins.b];
-        if (a.is_unknown() || b.is_unknown()) {
-          v[i] = Interval::unknown();
-          c[i] = Choice::Both;
-        } else if (a.lo > b.hi) {
-          v[i] = a;
-          c[i] = Choice::Left;
-        } else if (b.lo > a.hi) {
-          v[i] = b;
-          c[i] = Choice::Right;
-        } else {
-          v[i] = {a.lo > b.lo ? a.lo : b.lo, a.hi > b.hi ? a.hi : b.hi};
-          c[i] = Choice::Both;
-        }
-        break;
-      }
-      case Op::Mul: {
-        v[i] = ival::op(Op::Mul, v[ins.a], v[ins.b], &c[i]);
-        break;
-      }
-      case Op::Square: {
-        const Interval a = v[ins.a];
-        if (a.lo >= 0) v[i] = {a.lo * a.lo, a.hi * a.hi};
-        else if (a.hi <= 0) v[i] = {a.hi * a.hi, a.lo * a.lo};
-        else if (a.is_unknown()) v[i] = a;
-        else v[i] = {0.0f, std::max(a.lo * a.lo, a.hi * a.hi)};
-        break;
-      }
-      case Op::Sqrt: {
-        const Interval a = v[ins.a];
-        v[i] = a.lo >= 0 ? Interval{std::sqrt(a.lo), std::sqrt(a.hi)} : Interval::unknown();
-        break;
-      }
+      FREP_INTERVAL_CASE(Add)
+      FREP_INTERVAL_CASE(Sub)
+      FREP_INTERVAL_CASE(Mul)
+      FREP_INTERVAL_CASE(Neg)
+      FREP_INTERVAL_CASE(Square)
+      FREP_INTERVAL_CASE(Sqrt)
+      FREP_INTERVAL_CASE(Min)
+      FREP_INTERVAL_CASE(Max)
       default:
-        v[i] = ival::op(ins.op, v[ins.a], op_arity(ins.op) == 2 ? v[ins.b] : Interval{}, &c[i]);
+        v[i] = ival::op_generic(ins.op, v[ins.a], op_arity(ins.op) == 2 ? v[ins.b] : Interval{}, &c[i]);
     }
   }
+#undef FREP_INTERVAL_CASE
   return v[n - 1];
 }
 

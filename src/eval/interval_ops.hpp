@@ -71,7 +71,7 @@ inline Interval periodic(Interval a, double phase, float (*f)(float)) {
   return {rlo, rhi};
 }
 
-inline Interval op(Op op, Interval a, Interval b, Choice* choice) {
+[[gnu::always_inline]] inline Interval op(Op op, Interval a, Interval b, Choice* choice) {
   *choice = Choice::Both;
   const bool ua = a.is_unknown();
   const bool ub = op_arity(op) == 2 && b.is_unknown();
@@ -223,5 +223,8 @@ inline Interval op(Op op, Interval a, Interval b, Choice* choice) {
   }
   return Interval::unknown();
 }
+
+// The same, as an out-of-line call: for the rare ops and for callers that dispatch at run time.
+[[gnu::noinline]] inline Interval op_generic(Op o, Interval a, Interval b, Choice* choice) { return op(o, a, b, choice); }
 
 }  // namespace frep::ival
