@@ -20,6 +20,7 @@ struct Node {
   NodeId b;
   float value;  // only for Op::Const
 };
+static_assert(sizeof(Node) == 16, "docs/engine.md states 16 bytes per node");
 
 class Expr;
 

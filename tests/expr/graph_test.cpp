@@ -298,5 +298,27 @@ TEST(GraphScale, MillionDeepAddNegChain) {
   EXPECT_EQ(pe.eval(Tape::compile(g, acc.id()), 0.25f, 0, 0), 0.25f);
 }
 
+TEST(GraphOperators, ReadLikeMath) {
+  Graph g;
+  auto x = g.x(), y = g.y();
+  auto box = max(abs(x) - 1, abs(y) - 1);
+  const Tape t = Tape::compile(g, box.id());
+  PointEvaluator ev;
+  EXPECT_FLOAT_EQ(ev.eval(t, 0, 0, 0), -1.0f);
+  EXPECT_FLOAT_EQ(ev.eval(t, 2, 0.5f, 0), 1.0f);
+  EXPECT_FLOAT_EQ(ev.eval(t, -1.5f, 3, 0), 2.0f);
+}
+
+TEST(GraphScale, MemoryPerNodeIsAsDocumented) {
+  Graph g;
+  auto x = g.x();
+  Expr acc = x;
+  for (int i = 0; i < 1000000; ++i) acc = min(acc, x - static_cast<float>(i) * 1e-3f);
+  // docs/engine.md: 16 bytes per node plus a hash index at most half full (24 to 32 bytes per
+  // node), plus the vectors' growth slack.
+  EXPECT_LE(g.memory_bytes(), g.size() * 48);
+  EXPECT_GE(g.memory_bytes(), g.size() * 24);
+}
+
 }  // namespace
 }  // namespace frep
