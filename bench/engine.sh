@@ -8,6 +8,7 @@ if [ ! -f ../shared/data/vm/prospero.vm ]; then
   echo "bench/engine.sh: ../shared/data/vm/prospero.vm not found; nothing to measure" >&2
   exit 1
 fi
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DFREP_BUILD_BENCH=ON >/dev/null
 cmake --build build --target bench_eval >/dev/null
 out=$(./build/bench/bench_eval --benchmark_min_time=2 --benchmark_repetitions=3 \
       --benchmark_report_aggregates_only=true 2>&1)

@@ -19,7 +19,7 @@
       for (const frep::Triangle& t : m.triangles)                                         \
         for (std::uint32_t v : t)                                                         \
           if (v >= m.vertices.size()) __builtin_trap();                                   \
-      if (m.face_source.size() != m.triangles.size()) __builtin_trap();                   \
+      if (m.origins.size() != m.triangles.size()) __builtin_trap();                       \
       frep::weld(m);                                                                      \
     } catch (const frep::InputError&) {                                                   \
     }                                                                                     \

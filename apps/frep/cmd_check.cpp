@@ -17,7 +17,7 @@ void register_check(CLI::App& app) {
     bool json = false, no_intersections = false;
     double weld_tolerance = 0;
     std::size_t examples = 5;
-    unsigned threads = 0;
+    int threads = 0;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("MESH", a->file, "Mesh file")->required();
@@ -27,7 +27,7 @@ void register_check(CLI::App& app) {
       ->check(finite_non_negative());
   cmd->add_option("--examples", a->examples, "Example locations listed per defect (default 5)");
   cmd->add_flag("--no-self-intersections", a->no_intersections, "Skip the self-intersection test");
-  cmd->add_option("--threads", a->threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0u, 1024u));
+  cmd->add_option("--threads", a->threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0, 1024));
   cmd->callback([a] {
     const TriMesh mesh = read_mesh(a->file);
     ValidationOptions opt;

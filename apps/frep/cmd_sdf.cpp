@@ -15,7 +15,7 @@ void register_sdf(CLI::App& app) {
     bool unsigned_only = false;
     double weld_tolerance = 0;
     int digits = 9;
-    unsigned threads = 0;
+    int threads = 0;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("MESH", a->file, "Mesh file (STL, OBJ, PLY, OFF)")->required();
@@ -31,7 +31,7 @@ void register_sdf(CLI::App& app) {
       ->check(finite_non_negative());
   cmd->add_option("--digits", a->digits, "Significant digits printed (default 9, 17 round-trips doubles)")
       ->check(CLI::Range(1, 17));
-  cmd->add_option("--threads", a->threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0u, 1024u));
+  cmd->add_option("--threads", a->threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0, 1024));
   cmd->callback([a] {
     const PointColumns<double> p =
         parse_points_f64(read_points_text(a->points), points_source_name(a->points), /*require_finite=*/true);

@@ -10,6 +10,7 @@
 #include "frep/error.hpp"
 #include "frep/io/atomic_file.hpp"
 #include "io/parse_number.hpp"
+#include "io/text_scan.hpp"
 
 namespace frep {
 namespace {
@@ -23,14 +24,8 @@ struct Line {
   std::uint64_t line_no = 0;
 };
 
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
-
-std::string quoted(std::string_view s) {
-  std::string out = "'";
-  for (char c : s.substr(0, 60)) out += (static_cast<unsigned char>(c) < 32 || c == 127) ? '?' : c;
-  if (s.size() > 60) out += "...";
-  return out + "'";
-}
+using detail::is_space;
+using detail::quoted;
 
 float parse_number(std::string_view tok, const std::string& name, std::uint64_t line_no) {
   float v = 0;

@@ -3,16 +3,18 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <thread>
 
 #include "frep/error.hpp"
 #include "frep/mesh/weld.hpp"
+#include "frep/util/thread_pool.hpp"
 #include "mesh/mesh_simd.hpp"
 
 namespace frep {
 namespace {
 
 constexpr double kFourPi = 4 * 3.14159265358979323846;
+// Points per parallel work item: enough to amortize handing it out, small enough to balance.
+constexpr std::size_t kQueryGrain = 1024;
 
 // Closest point on triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5), with the
 // feature it lies on. Degenerate triangles fall back to their edges.
@@ -204,24 +206,6 @@ struct WideBuilder {
   }
 };
 
-template <class F>
-void parallel_for(std::size_t n, unsigned threads, F&& f) {
-  if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-  threads = static_cast<unsigned>(std::min<std::size_t>(threads, (n + 1023) / 1024));
-  if (threads <= 1) {
-    f(std::size_t(0), n);
-    return;
-  }
-  std::vector<std::thread> pool;
-  const std::size_t chunk = (n + threads - 1) / threads;
-  for (unsigned t = 1; t < threads; ++t) {
-    const std::size_t b = t * chunk, e = std::min(n, b + chunk);
-    if (b < e) pool.emplace_back([&f, b, e] { f(b, e); });
-  }
-  f(std::size_t(0), std::min(n, chunk));
-  for (auto& th : pool) th.join();
-}
-
 }  // namespace
 
 MeshDistance::MeshDistance(const TriMesh& mesh, const MeshDistanceOptions& options) : options_(options) {
@@ -359,15 +343,15 @@ double MeshDistance::signed_distance(const Vec3& p, SignMethod method) const {
 }
 
 void MeshDistance::signed_distance(const double* x, const double* y, const double* z, double* out, std::size_t n,
-                                   SignMethod method, unsigned threads) const {
-  parallel_for(n, threads, [&](std::size_t b, std::size_t e) {
+                                   SignMethod method, int threads) const {
+  parallel_for_ranges(threads, n, kQueryGrain, [&](int, std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) out[i] = signed_distance(Vec3{x[i], y[i], z[i]}, method);
   });
 }
 
 void MeshDistance::unsigned_distance(const double* x, const double* y, const double* z, double* out, std::size_t n,
-                                     unsigned threads) const {
-  parallel_for(n, threads, [&](std::size_t b, std::size_t e) {
+                                     int threads) const {
+  parallel_for_ranges(threads, n, kQueryGrain, [&](int, std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) out[i] = closest_point(Vec3{x[i], y[i], z[i]}).distance;
   });
 }

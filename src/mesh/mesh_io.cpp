@@ -6,10 +6,21 @@
 
 #include "frep/error.hpp"
 #include "frep/io/atomic_file.hpp"
-#include "text_scan.hpp"
+#include "io/text_scan.hpp"
 
 namespace frep {
 using namespace detail;
+
+void TriMesh::check_consistent() const {
+  if (!origins.empty() && origins.size() != triangles.size())
+    throw InputError(name, 0, std::to_string(origins.size()) + " triangle origins for " +
+                                  std::to_string(triangles.size()) + " triangles");
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    for (std::uint32_t v : triangles[t])
+      if (v >= vertices.size())
+        throw InputError(name, 0, "triangle " + std::to_string(t) + " refers to vertex " + std::to_string(v) +
+                                      " of " + std::to_string(vertices.size()));
+}
 
 Box3 bounding_box(const TriMesh& mesh) {
   Box3 b;

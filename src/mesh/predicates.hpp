@@ -3,7 +3,7 @@
 // wherever a wrong sign would give a wrong answer (self-intersections), not for distances.
 #pragma once
 
-#include "frep/mesh/vec3.hpp"
+#include "frep/math/vec.hpp"
 
 namespace frep::exact {
 

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "frep/mesh/mesh_io.hpp"
-#include "text_scan.hpp"
+#include "io/text_scan.hpp"
 
 namespace frep {
 namespace {
@@ -101,7 +101,7 @@ TriMesh read_obj(std::string_view bytes, const std::string& name) {
   for (std::size_t t = 0; t < m.triangles.size(); ++t)
     for (std::uint32_t v : m.triangles[t])
       if (v >= m.vertices.size())
-        throw InputError(name, m.face_line[t],
+        throw InputError(name, m.origins[t].line,
                          "face index " + std::to_string(std::uint64_t(v) + 1) + " is beyond the " +
                              std::to_string(m.vertices.size()) + " vertices in the file");
   return m;

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "frep/mesh/mesh_io.hpp"
-#include "text_scan.hpp"
+#include "io/text_scan.hpp"
 
 namespace frep {
 namespace {
@@ -56,8 +56,7 @@ TriMesh read_binary(std::string_view b, const std::string& name) {
   m.name = name;
   m.vertices.reserve(3 * n);
   m.triangles.reserve(n);
-  m.face_source.reserve(n);
-  m.face_line.reserve(n);
+  m.origins.reserve(n);
   for (std::uint64_t t = 0; t < n; ++t) {
     const char* f = b.data() + kHeader + kFacet * t;
     for (int k = 0; k < 3; ++k) {

@@ -3,7 +3,7 @@
 // double coordinates given.
 #pragma once
 
-#include "frep/mesh/vec3.hpp"
+#include "frep/math/vec.hpp"
 
 namespace frep {
 

@@ -5,12 +5,12 @@
 #include <cstdio>
 #include <mutex>
 #include <numeric>
-#include <thread>
 
 #include "frep/error.hpp"
 #include "frep/mesh/bvh.hpp"
 #include "frep/mesh/mesh_distance.hpp"
 #include "frep/mesh/weld.hpp"
+#include "frep/util/thread_pool.hpp"
 #include "predicates.hpp"
 #include "tri_tri.hpp"
 
@@ -74,8 +74,9 @@ struct Collector {
   DefectLocation at_triangle(std::uint32_t t) const {
     DefectLocation l;
     l.triangle = t;
-    l.face = m.face_source[t];
-    l.line = m.face_line[t];
+    const FaceOrigin o = m.origin_of(t);
+    l.face = o.face;
+    l.line = o.line;
     l.point = unscale((m.corner(t, 0) + m.corner(t, 1) + m.corner(t, 2)) / 3.0);
     return l;
   }
@@ -381,8 +382,7 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
       for (std::uint32_t t : live) sub.triangles.push_back(m.triangles[t]);
     }
     const TriangleBvh bvh(live.size() < nt ? sub : m);
-    const unsigned threads =
-        std::min(1024u, opt.threads ? opt.threads : std::max(1u, std::thread::hardware_concurrency()));
+    const int threads = std::min(resolve_thread_count(opt.threads), 1024);
     // Per thread and kind of contact: a count, and the smallest (a, b) pairs seen so far in a
     // max-heap of at most max_examples, so memory does not grow with the number of pairs and
     // the examples do not depend on how pairs were spread over the threads.
@@ -393,7 +393,7 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
     };
     std::vector<PerThread> found(threads);
     const std::size_t keep = opt.max_examples;
-    bvh.for_each_overlapping_pair_parallel(threads, [&](std::uint32_t a, std::uint32_t b, unsigned th) {
+    bvh.for_each_overlapping_pair_parallel(threads, [&](std::uint32_t a, std::uint32_t b, int th) {
       a = live[a], b = live[b];
       const Triangle &ta = m.triangles[a], &tb = m.triangles[b];
       const Vec3 p[3] = {m.vertices[ta[0]], m.vertices[ta[1]], m.vertices[ta[2]]};

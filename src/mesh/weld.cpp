@@ -1,7 +1,5 @@
 #include "frep/mesh/weld.hpp"
 
-#include <cstdio>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -132,13 +130,11 @@ std::vector<std::uint32_t> tolerance_representatives(const TriMesh& m, const std
 WeldResult weld(const TriMesh& mesh, const WeldOptions& options) {
   if (!(options.tolerance >= 0) || !std::isfinite(options.tolerance))
     throw InputError(mesh.name, 0, "weld tolerance must be a finite number >= 0");
+  mesh.check_consistent();
   const std::size_t n = mesh.vertices.size();
   std::vector<char> used(n, 0);
   for (const Triangle& t : mesh.triangles)
-    for (std::uint32_t v : t) {
-      FREP_ASSERT(v < n, "triangle refers to a vertex out of range");
-      used[v] = 1;
-    }
+    for (std::uint32_t v : t) used[v] = 1;
   const std::vector<std::uint32_t> rep = options.tolerance > 0 ? tolerance_representatives(mesh, used, options.tolerance)
                                                                  : exact_representatives(mesh, used);
   WeldResult r;
@@ -159,8 +155,7 @@ WeldResult weld(const TriMesh& mesh, const WeldOptions& options) {
   r.mesh.triangles.reserve(mesh.triangles.size());
   for (const Triangle& t : mesh.triangles)
     r.mesh.triangles.push_back({r.welded_of_original[t[0]], r.welded_of_original[t[1]], r.welded_of_original[t[2]]});
-  r.mesh.face_source = mesh.face_source;
-  r.mesh.face_line = mesh.face_line;
+  r.mesh.origins = mesh.origins;
   r.mesh.indexed = mesh.indexed;
   r.mesh.name = mesh.name;
   return r;

@@ -1,5 +1,9 @@
 #include "frep/render/image.hpp"
 
+// stb's PNG writer is compiled in here, with internal linkage, so the library needs no stb
+// runtime and cannot clash with a consumer's own copy.
+#define STB_IMAGE_WRITE_STATIC
+#define STB_IMAGE_WRITE_IMPLEMENTATION
 #include <stb/stb_image_write.h>
 
 #include <filesystem>

@@ -1,12 +1,22 @@
 #include "frep/util/thread_pool.hpp"
 
 #include <algorithm>
+#include <system_error>
 
 namespace frep {
 
+int resolve_thread_count(int threads) {
+  return threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
 ThreadPool::ThreadPool(int threads) {
-  int n = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  for (int i = 1; i < n; ++i) threads_.emplace_back([this, i] { worker_main(i); });
+  const int n = resolve_thread_count(threads);
+  threads_.reserve(static_cast<std::size_t>(n - 1));
+  try {
+    for (int i = 1; i < n; ++i) threads_.emplace_back([this, i] { worker_main(i); });
+  } catch (const std::system_error&) {
+    // Out of threads: work with those that started (the caller always works too).
+  }
 }
 
 ThreadPool::~ThreadPool() {

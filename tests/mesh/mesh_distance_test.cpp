@@ -137,8 +137,7 @@ TEST(MeshDistance, WindingAndPseudonormalAgreeOnCleanSolids) {
 TEST(MeshDistance, WindingNumberIsRobustToAHole) {
   TriMesh open = test::make_sphere(3);
   open.triangles.resize(open.triangles.size() - 3);  // a small hole
-  open.face_source.resize(open.triangles.size());
-  open.face_line.resize(open.triangles.size());
+  open.origins.resize(open.triangles.size());
   const MeshDistance md(open);
   EXPECT_LT(md.signed_distance({0, 0, 0}), -0.9);
   EXPECT_LT(md.signed_distance({0.3, -0.2, 0.1}), 0);
@@ -195,7 +194,7 @@ TEST(MeshCli, CheckAndSdf) {
   const std::string good = dir + "/frep_cli_box.stl", bad = dir + "/frep_cli_open.obj", pts = dir + "/frep_cli_pts.txt";
   write_mesh(good, test::make_box());
   TriMesh open = test::make_box();
-  open.triangles.pop_back(), open.face_source.pop_back(), open.face_line.pop_back();
+  open.triangles.pop_back(), open.origins.pop_back();
   write_mesh(bad, open);
   { std::ofstream(pts) << "# points\n0 0 0\n2, 0, 0\n0.5 0.5\n"; }
   int st;

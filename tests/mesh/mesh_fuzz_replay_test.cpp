@@ -22,7 +22,7 @@ TriMesh read_any(std::string_view b, const std::string& n) { return read_mesh_fr
 bool try_read(Reader r, std::string_view bytes) {
   try {
     const TriMesh m = r(bytes, "fuzz");
-    EXPECT_EQ(m.face_source.size(), m.triangles.size());
+    EXPECT_EQ(m.origins.size(), m.triangles.size());
     for (const Triangle& t : m.triangles)
       for (std::uint32_t v : t) EXPECT_LT(v, m.vertices.size());
     weld(m);

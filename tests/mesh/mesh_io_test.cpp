@@ -71,7 +71,7 @@ TEST(MeshIo, AsciiStlVariants) {
   TriMesh m = read_mesh_from_memory(text, "x.obj");  // content wins over a lying extension
   ASSERT_EQ(m.num_triangles(), 2u);
   EXPECT_EQ(m.vertices[4], (Vec3{1, 0, 1}));
-  EXPECT_EQ(m.face_line[1], 11u);
+  EXPECT_EQ(m.origins[1].line, 11u);
   expect_input_error([] { read_stl("solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 zz\n", "f.stl"); },
                      "f.stl:4: bad vertex coordinate 'zz'");
   expect_input_error([] { read_stl("solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 inf\n", "f.stl"); },
@@ -92,8 +92,8 @@ TEST(MeshIo, ObjPolygonsNegativeIndicesAndContinuations) {
   EXPECT_EQ(m.triangles[0], (Triangle{0, 1, 2}));
   EXPECT_EQ(m.triangles[1], (Triangle{0, 2, 3}));
   EXPECT_EQ(m.triangles[2], (Triangle{0, 2, 3}));
-  EXPECT_EQ(m.face_source[1], 0u);
-  EXPECT_EQ(m.face_line[2], 10u);
+  EXPECT_EQ(m.origins[1].face, 0u);
+  EXPECT_EQ(m.origins[2].line, 10u);
   expect_input_error([] { read_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "b.obj"); }, "b.obj:4: face index 4 is beyond");
   expect_input_error([] { read_obj("v 0 0 0\nf -2 1 1\n", "c.obj"); }, "c.obj:2: relative face index");
   expect_input_error([] { read_obj("v 0 0 nan\n", "d.obj"); }, "d.obj:1: vertex coordinate is not a finite");

@@ -119,7 +119,7 @@ TEST(Validate, CleanBoxAndSphere) {
 
 TEST(Validate, EachDefectIsFoundAndLocated) {
   TriMesh open = test::make_box();
-  open.triangles.pop_back(), open.face_source.pop_back(), open.face_line.pop_back();
+  open.triangles.pop_back(), open.origins.pop_back();
   ValidationReport r = validate_mesh(open);
   EXPECT_FALSE(r.is_solid());
   EXPECT_EQ(count(r, DefectKind::OpenEdges), 3u);
@@ -226,9 +226,9 @@ TEST(Validate, VerdictsMatchSharedManifest) {
 TEST(Validate, ParallelPairsRethrowWorkerExceptions) {
   const TriMesh m = test::make_sphere(3);
   const TriangleBvh bvh(m);
-  for (unsigned threads : {1u, 2u, 7u, 100000u}) {
+  for (int threads : {1, 2, 7, 100000}) {
     std::atomic<std::size_t> pairs{0};
-    bvh.for_each_overlapping_pair_parallel(threads, [&](std::uint32_t, std::uint32_t, unsigned th) {
+    bvh.for_each_overlapping_pair_parallel(threads, [&](std::uint32_t, std::uint32_t, int th) {
       EXPECT_LT(th, threads);
       ++pairs;
     });
@@ -237,7 +237,7 @@ TEST(Validate, ParallelPairsRethrowWorkerExceptions) {
     EXPECT_EQ(pairs.load(), serial);
     std::atomic<int> calls{0};
     EXPECT_THROW(bvh.for_each_overlapping_pair_parallel(threads,
-                                                        [&](std::uint32_t, std::uint32_t, unsigned) {
+                                                        [&](std::uint32_t, std::uint32_t, int) {
                                                           if (++calls == 50) throw std::bad_alloc();
                                                         }),
                  std::bad_alloc);
@@ -279,7 +279,7 @@ TEST(Validate, ManyOverlappingPairsKeepOnlyExamples) {
     m.add_triangle(3 * i, 3 * i + 1, 3 * i + 2, i, 0);
   }
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> seen;
-  for (unsigned threads : {1u, 3u, 8u}) {
+  for (int threads : {1, 3, 8}) {
     ValidationOptions opt;
     opt.threads = threads;
     opt.max_examples = 4;

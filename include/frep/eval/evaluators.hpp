@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "frep/eval/grad.hpp"
 #include "frep/eval/interval.hpp"
 #include "frep/eval/tape.hpp"
 
@@ -56,12 +57,7 @@ class IntervalEvaluator {
   std::vector<Choice> choices_;
 };
 
-// Value and gradient (forward mode), batched.
-struct Grad {
-  float v = 0, dx = 0, dy = 0, dz = 0;
-};
-
-// Gradient conventions where the derivative does not exist: min/max/and/or take the gradient of
+// Value and gradient (forward mode), batched. Gradient conventions where the derivative does not exist: min/max/and/or take the gradient of
 // the side they return; abs'(0) = +1; sqrt'(0) = 0 (so |p - a| has gradient 0, not NaN, exactly
 // on a distance-to-edge curve); floor/ceil/round/compare/not have gradient 0.
 class GradEvaluator {

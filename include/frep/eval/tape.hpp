@@ -63,10 +63,7 @@ class Tape {
   void simplify(const std::vector<Interval>& values, const std::vector<Choice>& choices, Tape& out,
                 bool registers = true) const;
   Tape simplified(const std::vector<Interval>& values, const std::vector<Choice>& choices) const;
-
-  // The same for every box of an IntervalBatchEvaluator run whose bit is set in `lanes`: writes
-  // outs[lane]. One backward pass over this tape serves all of them (lane bit masks).
-  void simplify_lanes(const IntervalBatchEvaluator& ev, std::uint32_t lanes, Tape* outs, bool registers) const;
+  // (For many boxes at once, see IntervalBatchEvaluator::simplify.)
 
  private:
   friend class IntervalBatchEvaluator;

@@ -4,6 +4,9 @@
 // The handle does not own the graph; the graph must outlive it.
 #pragma once
 
+#include <stdexcept>
+#include <string>
+
 #include "frep/error.hpp"
 #include "frep/expr/graph.hpp"
 
@@ -24,7 +27,9 @@ class Expr {
 namespace detail {
 inline Expr un(Op op, Expr a) { return Expr(a.graph(), a.graph().unary(op, a.id())); }
 inline Expr bin(Op op, Expr a, Expr b) {
-  FREP_ASSERT(&a.graph() == &b.graph(), "expressions from different graphs");
+  if (&a.graph() != &b.graph())
+    throw std::invalid_argument(std::string("frep: ") + std::string(op_name(op)) +
+                                " of expressions from two different graphs (build both in one frep::Graph)");
   return Expr(a.graph(), a.graph().binary(op, a.id(), b.id()));
 }
 inline Expr lift(Expr like, float v) { return like.graph().c(v); }

@@ -40,11 +40,11 @@ class TriangleBvh {
   void for_each_overlapping_pair(F&& f) const;
 
   // The same pairs, split into independent jobs: f is called with (a, b) from up to `threads`
-  // threads (fewer if there are fewer jobs or threads cannot be started), each with its own
-  // thread index (< threads) as a third argument. Which thread sees which pair varies from run
-  // to run. An exception thrown by f is rethrown after all threads have been joined.
+  // threads (0: all cores; fewer if there are fewer jobs or threads cannot be started), each
+  // with its own worker index (< threads) as a third argument. Which worker sees which pair
+  // varies from run to run. An exception thrown by f is rethrown once all workers are done.
   template <class F>
-  void for_each_overlapping_pair_parallel(unsigned threads, F&& f) const;
+  void for_each_overlapping_pair_parallel(int threads, F&& f) const;
 
  private:
   std::vector<Node> nodes_;
@@ -107,15 +107,12 @@ void TriangleBvh::for_each_overlapping_pair(F&& f) const {
 
 }  // namespace frep
 
-#include <algorithm>
-#include <atomic>
-#include <exception>
-#include <thread>
+#include "frep/util/thread_pool.hpp"
 
 namespace frep {
 
 template <class F>
-void TriangleBvh::for_each_overlapping_pair_parallel(unsigned threads, F&& f) const {
+void TriangleBvh::for_each_overlapping_pair_parallel(int threads, F&& f) const {
   if (nodes_.empty()) return;
   // Jobs: the "within" and "between" sub-problems near the root, found by expanding the top of
   // the recursion breadth-first until there are enough of them; handed out round-robin.
@@ -124,7 +121,8 @@ void TriangleBvh::for_each_overlapping_pair_parallel(unsigned threads, F&& f) co
     bool within;
   };
   std::vector<Job> jobs{{0, 0, true}};
-  for (std::size_t round = 0; round < 8 && jobs.size() < 64 * std::size_t(threads); ++round) {
+  const std::size_t want = 64 * static_cast<std::size_t>(resolve_thread_count(threads));
+  for (std::size_t round = 0; round < 8 && jobs.size() < want; ++round) {
     std::vector<Job> next;
     for (const Job& j : jobs) {
       const Node& A = nodes_[j.a];
@@ -150,36 +148,15 @@ void TriangleBvh::for_each_overlapping_pair_parallel(unsigned threads, F&& f) co
     }
     jobs.swap(next);
   }
-  // No more threads than jobs. Jobs are taken from a shared counter, so a thread that cannot be
-  // started only means fewer workers; an exception thrown by f (bad_alloc...) stops the others
-  // and is rethrown here once every thread has been joined.
-  threads = static_cast<unsigned>(std::clamp<std::size_t>(threads, 1, jobs.size()));
-  std::atomic<std::size_t> next{0};
-  std::atomic<bool> failed{false};
-  std::vector<std::exception_ptr> errors(threads);
-  auto run = [&](unsigned t) noexcept {
-    try {
-      auto g = [&](std::uint32_t a, std::uint32_t b) { f(a, b, t); };
-      for (std::size_t k; !failed.load(std::memory_order_relaxed) && (k = next.fetch_add(1)) < jobs.size();) {
-        if (jobs[k].within) pairs_within(jobs[k].a, g);
-        else pairs_below(jobs[k].a, jobs[k].b, g);
-      }
-    } catch (...) {
-      errors[t] = std::current_exception();
-      failed = true;
+  // Jobs go to a pool of at most `threads` workers (no more than there are jobs); an exception
+  // thrown by f stops handing out jobs and is rethrown here.
+  parallel_for_ranges(threads, jobs.size(), 1, [&](int worker, std::size_t b, std::size_t e) {
+    auto g = [&](std::uint32_t a, std::uint32_t c) { f(a, c, worker); };
+    for (std::size_t k = b; k < e; ++k) {
+      if (jobs[k].within) pairs_within(jobs[k].a, g);
+      else pairs_below(jobs[k].a, jobs[k].b, g);
     }
-  };
-  std::vector<std::thread> pool;
-  try {
-    pool.reserve(threads - 1);
-    for (unsigned t = 1; t < threads; ++t) pool.emplace_back(run, t);
-  } catch (...) {
-    // Out of threads or memory: the threads already running and this one share the jobs.
-  }
-  run(0);
-  for (auto& th : pool) th.join();
-  for (const auto& e : errors)
-    if (e) std::rethrow_exception(e);
+  });
 }
 
 }  // namespace frep

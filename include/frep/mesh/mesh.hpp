@@ -6,21 +6,26 @@
 #include <string>
 #include <vector>
 
-#include "frep/mesh/vec3.hpp"
+#include "frep/math/vec.hpp"
 
 namespace frep {
 
 using Triangle = std::array<std::uint32_t, 3>;
 
-// An indexed triangle mesh. Readers fill `face_source` so that a triangle can be traced back to
-// the file: polygons are fan-triangulated, so several triangles may share one source face.
+// Where a triangle came from in its file: polygons are fan-triangulated, so several triangles
+// may share one face.
+struct FaceOrigin {
+  std::uint32_t face = 0;  // 0-based index of the face (facet, polygon, strip) in the file
+  std::uint32_t line = 0;  // 1-based line of that face in text formats, 0 for binary formats
+};
+
+// An indexed triangle mesh. Readers record each triangle's origin in the file; meshes made in
+// memory (a mesher's output) usually have none.
 struct TriMesh {
   std::vector<Vec3> vertices;
   std::vector<Triangle> triangles;
-  // Per triangle: the 0-based index of the face (facet, polygon, strip) it came from in the file.
-  std::vector<std::uint32_t> face_source;
-  // Per triangle: the 1-based line of that face in text formats, 0 for binary formats.
-  std::vector<std::uint32_t> face_line;
+  // Empty (no provenance), or one entry per triangle: use origin_of(), which handles both.
+  std::vector<FaceOrigin> origins;
   // True when the file format shares vertices between faces (OBJ, PLY, OFF); false for STL,
   // which repeats the coordinates of every corner.
   bool indexed = true;
@@ -30,23 +35,24 @@ struct TriMesh {
   std::size_t num_vertices() const { return vertices.size(); }
   std::size_t num_triangles() const { return triangles.size(); }
   Vec3 corner(std::size_t t, int k) const { return vertices[triangles[t][k]]; }
-  // Adds a triangle with its provenance.
-  void add_triangle(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t face,
-                    std::uint32_t line) {
-    triangles.push_back({a, b, c});
-    face_source.push_back(face);
-    face_line.push_back(line);
+  bool has_origins() const { return !origins.empty(); }
+  // Triangle t's origin; without recorded provenance, face t on no line.
+  FaceOrigin origin_of(std::size_t t) const {
+    return origins.empty() ? FaceOrigin{static_cast<std::uint32_t>(t), 0} : origins[t];
   }
+  // Adds a triangle without provenance (only while the mesh has none).
+  void add_triangle(std::uint32_t a, std::uint32_t b, std::uint32_t c) { triangles.push_back({a, b, c}); }
+  // Adds a triangle with its origin (the mesh must record origins for every triangle).
+  void add_triangle(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t face, std::uint32_t line) {
+    triangles.push_back({a, b, c});
+    origins.push_back({face, line});
+  }
+  // Throws InputError (naming the mesh) unless every index refers to a vertex, and the origins
+  // are absent or one per triangle. Algorithms call it on meshes they did not read themselves.
+  void check_consistent() const;
 };
 
-// Axis-aligned bounding box of the used vertices (of all vertices if none is used).
-struct Box3 {
-  Vec3 lo{1e308, 1e308, 1e308}, hi{-1e308, -1e308, -1e308};
-  void add(Vec3 p) { lo = min(lo, p); hi = max(hi, p); }
-  bool empty() const { return lo.x > hi.x; }
-  Vec3 center() const { return (lo + hi) * 0.5; }
-  Vec3 size() const { return hi - lo; }
-};
+// Axis-aligned bounding box of the vertices that triangles use (of all vertices if none is used).
 Box3 bounding_box(const TriMesh& mesh);
 
 }  // namespace frep

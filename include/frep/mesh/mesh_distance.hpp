@@ -76,9 +76,9 @@ class MeshDistance {
 
   // Batch versions over `threads` threads (0: all cores); results do not depend on the count.
   void signed_distance(const double* x, const double* y, const double* z, double* out, std::size_t n,
-                       SignMethod method = SignMethod::WindingNumber, unsigned threads = 0) const;
+                       SignMethod method = SignMethod::WindingNumber, int threads = 0) const;
   void unsigned_distance(const double* x, const double* y, const double* z, double* out, std::size_t n,
-                         unsigned threads = 0) const;
+                         int threads = 0) const;
 
   std::size_t num_triangles() const { return tri_.size(); }
 

@@ -16,7 +16,7 @@ struct ValidationOptions {
   bool self_intersections = true;  // run the exact triangle-triangle intersection test
   std::size_t max_examples = 5;    // example locations kept per kind of defect
   double needle_quality = 1e-4;    // triangles with 4*sqrt(3)*area/sum(edge^2) below this are needles
-  unsigned threads = 0;            // worker threads for the intersection test (0: all cores, at most 1024)
+  int threads = 0;                 // worker threads for the intersection test (0: all cores)
 };
 
 enum class DefectKind {

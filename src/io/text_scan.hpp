@@ -1,5 +1,6 @@
-// Private helpers shared by the mesh readers: a bounds-checked cursor over text with line
-// tracking, number parsing that never reads past the end, and little/big-endian loads.
+// Private lexing helpers shared by the text readers (.vm, points, mesh formats): a bounds-checked
+// cursor over text with line tracking, number parsing that never reads past the end, tokens
+// shown safely in messages, and little-endian loads.
 #pragma once
 
 #include "io/parse_number.hpp"
@@ -42,6 +43,8 @@ inline std::string printable(std::string_view s) {
   if (s.size() > 32) out += "...";
   return out;
 }
+// The same, in single quotes.
+inline std::string quoted(std::string_view s) { return "'" + printable(s) + "'"; }
 
 // Parses a whole token as a double ("+1", "1e5", "-.5"); false if it is not exactly a number.
 inline bool parse_double(std::string_view tok, double& out) { return parse_real(tok, out); }

@@ -1,0 +1,33 @@
+// The umbrella header: everything public in frep, for `#include <frep/frep.hpp>`.
+#pragma once
+
+#include "frep/error.hpp"
+#include "frep/math/vec.hpp"
+#include "frep/util/thread_pool.hpp"
+
+#include "frep/expr/opcode.hpp"
+#include "frep/expr/semantics.hpp"
+#include "frep/expr/graph.hpp"
+#include "frep/expr/expr.hpp"
+#include "frep/expr/model.hpp"
+
+#include "frep/eval/interval.hpp"
+#include "frep/eval/grad.hpp"
+#include "frep/eval/tape.hpp"
+#include "frep/eval/evaluators.hpp"
+#include "frep/eval/interval_batch.hpp"
+
+#include "frep/io/atomic_file.hpp"
+#include "frep/io/load.hpp"
+#include "frep/io/points.hpp"
+#include "frep/io/vm.hpp"
+
+#include "frep/mesh/mesh.hpp"
+#include "frep/mesh/mesh_io.hpp"
+#include "frep/mesh/weld.hpp"
+#include "frep/mesh/bvh.hpp"
+#include "frep/mesh/validate.hpp"
+#include "frep/mesh/mesh_distance.hpp"
+
+#include "frep/render/image.hpp"
+#include "frep/render/render2d.hpp"
