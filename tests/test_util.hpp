@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <hwy/targets.h>
+
 #include "frep/eval/evaluators.hpp"
 #include "frep/eval/interval.hpp"
 #include "frep/eval/tape.hpp"
@@ -41,6 +43,53 @@ inline bool have_data(const std::string& name) { return std::filesystem::exists(
       GTEST_SKIP() << "shared test data not found: " << ::frep::test::data_file(name)            \
                    << " (expected the data set at FREP_SOURCE_DIR/../shared/data/vm)";           \
   } while (0)
+
+// ---------------------------------------------------------------------------------------------
+// SIMD targets: the library dispatches at run time to the best instruction set the CPU has, so
+// the others would never run. Tests force each one in turn.
+
+// Every instruction set that the library was compiled for and this CPU can run, best first:
+// those for which forcing it makes the library's dispatch report that very target.
+inline const std::vector<std::int64_t>& simd_targets() {
+  static const std::vector<std::int64_t> targets = [] {
+    std::vector<std::int64_t> v;
+    const std::int64_t cpu = hwy::SupportedTargets();
+    for (std::int64_t bits = cpu; bits != 0; bits &= bits - 1) {
+      const std::int64_t t = bits & -bits;
+      hwy::SetSupportedTargetsForTest(t);
+      if (std::string(BatchEvaluator::target_name()) == hwy::TargetName(t)) v.push_back(t);
+    }
+    hwy::SetSupportedTargetsForTest(0);
+    return v;
+  }();
+  return targets;
+}
+inline std::string simd_target_name(std::int64_t t) { return hwy::TargetName(t); }
+inline std::int64_t simd_target_by_name(const std::string& name) {
+  for (std::int64_t t : simd_targets())
+    if (simd_target_name(t) == name) return t;
+  return 0;
+}
+
+// While alive, the library's SIMD code runs on target `t` (0: the best, as normally).
+class ScopedSimdTarget {
+ public:
+  explicit ScopedSimdTarget(std::int64_t t) { hwy::SetSupportedTargetsForTest(t); }
+  ~ScopedSimdTarget() { hwy::SetSupportedTargetsForTest(0); }
+  ScopedSimdTarget(const ScopedSimdTarget&) = delete;
+  ScopedSimdTarget& operator=(const ScopedSimdTarget&) = delete;
+};
+
+// Runs body() once per SIMD target, with a trace naming the target in failure messages.
+template <class F>
+void for_each_simd_target(F&& body) {
+  ASSERT_FALSE(simd_targets().empty());
+  for (std::int64_t t : simd_targets()) {
+    SCOPED_TRACE("SIMD target " + simd_target_name(t));
+    ScopedSimdTarget scoped(t);
+    body();
+  }
+}
 
 // ---------------------------------------------------------------------------------------------
 // Exact comparison

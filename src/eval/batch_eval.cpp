@@ -88,6 +88,7 @@ void EvalChunk(const RegInstr* code, std::size_t ncode, float* regs, std::size_t
       case Op::Recip: Unary(a, o, count, [&](V v) { return hn::Div(one, v); }); break;
       case Op::Sqrt: Unary(a, o, count, [](V v) { return hn::Sqrt(v); }); break;
       case Op::Square: Unary(a, o, count, [](V v) { return hn::Mul(v, v); }); break;
+#if HWY_TARGET != HWY_SCALAR  // Highway's scalar Floor/Ceil lose the sign of zero: use libm there
       case Op::Floor: Unary(a, o, count, [](V v) { return hn::Floor(v); }); break;
       case Op::Ceil: Unary(a, o, count, [](V v) { return hn::Ceil(v); }); break;
       case Op::Round:  // halves away from zero
@@ -97,6 +98,7 @@ void EvalChunk(const RegInstr* code, std::size_t ncode, float* regs, std::size_t
           return hn::IfThenElse(away, hn::Add(t, hn::CopySign(one, v)), t);
         });
         break;
+#endif
       case Op::Not: Unary(a, o, count, [&](V v) { return hn::IfThenElse(v == zero, one, zero); }); break;
       case Op::Add: Binary(ins, regs, o, stride, count, [](V p, V q) { return hn::Add(p, q); }); break;
       case Op::Sub: Binary(ins, regs, o, stride, count, [](V p, V q) { return hn::Sub(p, q); }); break;

@@ -100,7 +100,7 @@ HWY_INLINE G LoadArg(D d, const RegInstr& ins, bool first, const float* R, std::
 }
 
 // p * dv, except that a zero partial gives 0 even where dv is infinite or NaN.
-HWY_INLINE V Scaled(V p, V dv) { return hn::IfThenElseZero(p != hn::Zero(hn::DFromV<V>()), hn::Mul(p, dv)); }
+HWY_INLINE V Scaled(V p, V dv) { return hn::IfThenElseZero(NotZero(p), hn::Mul(p, dv)); }
 
 
 // Returns false for ops it does not vectorize.
@@ -178,7 +178,7 @@ bool GradOp(const RegInstr& ins, float* R, std::size_t chunk, std::size_t count)
       return true;
     case Op::Sqrt:  // sqrt'(0) = 0 by convention
       unary([](V x) { return hn::Sqrt(x); },
-            [&](V, V v) { return hn::IfThenElseZero(v != zero, hn::Div(half, v)); });
+            [&](V, V v) { return hn::IfThenElseZero(NotZero(v), hn::Div(half, v)); });
       return true;
     default:
       return false;

@@ -14,6 +14,8 @@
 #include <cstring>
 #include <optional>
 
+#include "eval/simd_ops-inl.h"
+
 #include "eval/interval_ops.hpp"
 #include "frep/error.hpp"
 #include "eval/tape_builder.hpp"
@@ -179,7 +181,7 @@ void EvalBoxes(const SsaInstr* code, std::size_t n, float* lo, float* hi, std::u
       Lanes([&](D dd, int j) {
         const V l = hn::Load(dd, olo + j), h = hn::Load(dd, ohi + j);
         const M single = l == h;
-        fbits |= Bits(dd, zero_ok ? single : hn::And(single, l != zero)) << j;
+        fbits |= Bits(dd, zero_ok ? single : hn::And(single, NotZero(l))) << j;
       });
     }
     fold[i] = static_cast<std::uint16_t>(fbits);

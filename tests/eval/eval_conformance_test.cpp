@@ -4,6 +4,8 @@
 // value). Exact evaluators must be bit-identical to op_eval<float> (or NaN where it is NaN).
 #include <gtest/gtest.h>
 
+#include <optional>
+
 #include <algorithm>
 #include <functional>
 #include <memory>
@@ -199,9 +201,22 @@ std::unique_ptr<Backend> make_backend(const std::string& name) {
   return nullptr;
 }
 
+// Parameters: "<backend>" or, for SIMD backends, "<backend>_<target>" (e.g. "Batch8_AVX2"), so
+// that every compiled instruction set passes the suite, not only the CPU's best.
 class Conformance : public ::testing::TestWithParam<std::string> {
  protected:
-  void SetUp() override { backend_ = make_backend(GetParam()); }
+  void SetUp() override {
+    std::string name = GetParam();
+    if (const auto us = name.find('_'); us != std::string::npos) {
+      const std::int64_t t = test::simd_target_by_name(name.substr(us + 1));
+      ASSERT_NE(t, 0) << "SIMD target not available: " << name;
+      target_.emplace(t);
+      name = name.substr(0, us);
+    }
+    backend_ = make_backend(name);
+    ASSERT_TRUE(backend_) << name;
+  }
+  void TearDown() override { target_.reset(); }
 
   // Runs the backend on `t` at the points and compares with `expected`; stops after a few
   // failures per call so a broken op does not flood the log.
@@ -220,6 +235,7 @@ class Conformance : public ::testing::TestWithParam<std::string> {
     }
   }
 
+  std::optional<test::ScopedSimdTarget> target_;
   std::unique_ptr<Backend> backend_;
   std::vector<Interval> got_;
 };
@@ -425,11 +441,26 @@ TEST_P(Conformance, ReusingOneEvaluatorAcrossTapesOfDifferentSizes) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(AllEvaluators, Conformance,
-                         ::testing::Values("Point", "Batch1", "Batch7", "Batch8", "Batch9", "Batch255", "Batch256",
-                                           "Batch257", "Batch1000", "Grad1", "Grad63", "Grad64", "Grad65",
-                                           "Grad1000", "Interval", "IntervalBatch"),
+std::vector<std::string> conformance_params() {
+  std::vector<std::string> v = {"Point", "Interval"};
+  for (const char* simd : {"Batch1", "Batch7", "Batch8", "Batch9", "Batch255", "Batch256", "Batch257", "Batch1000",
+                           "Grad1", "Grad63", "Grad64", "Grad65", "Grad1000", "IntervalBatch"})
+    for (std::int64_t t : test::simd_targets()) v.push_back(std::string(simd) + "_" + test::simd_target_name(t));
+  return v;
+}
+
+INSTANTIATE_TEST_SUITE_P(AllEvaluators, Conformance, ::testing::ValuesIn(conformance_params()),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+
+TEST(SimdTargets, SeveralInstructionSetsAreTested) {
+  // x86-64 CPUs of the last decade run at least SSE4 and AVX2; the library compiles both.
+  std::string names;
+  for (std::int64_t t : test::simd_targets()) names += test::simd_target_name(t) + " ";
+  std::printf("SIMD targets under test: %s\n", names.c_str());
+#if defined(__x86_64__)
+  EXPECT_GE(test::simd_targets().size(), 2u) << names;
+#endif
+}
 
 TEST(BatchEvaluator, ZeroPointsIsANoOp) {
   Graph g;

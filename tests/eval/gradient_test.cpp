@@ -234,21 +234,55 @@ TEST(Gradient, RandomSmoothExpressionsAgainstCentralDifferences) {
 }
 
 TEST(Gradient, BatchedEqualsSinglePointBitForBit) {
-  std::mt19937_64 rng(54);
-  Graph g;
-  auto x = g.x(), y = g.y(), z = g.z();
-  const Tape t = Tape::compile(g, (sin(x * y) + sqrt(square(x) + square(z)) * atan2(y, z) - min(x, exp(z))).id());
-  const std::size_t n = 300;
-  std::vector<float> xs(n), ys(n), zs(n);
-  for (std::size_t i = 0; i < n; ++i) xs[i] = test::random_float(rng), ys[i] = test::random_float(rng), zs[i] = test::random_float(rng);
-  GradEvaluator ge;
-  std::vector<Grad> all(n);
-  ge.eval(t, xs.data(), ys.data(), zs.data(), all.data(), n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Grad one = ge.eval(t, xs[i], ys[i], zs[i]);
-    ASSERT_TRUE(test::same_value(one.v, all[i].v) && test::same_value(one.dx, all[i].dx) &&
-                test::same_value(one.dy, all[i].dy) && test::same_value(one.dz, all[i].dz))
-        << "point " << i;
+  test::for_each_simd_target([&] {
+    std::mt19937_64 rng(54);
+    Graph g;
+    auto x = g.x(), y = g.y(), z = g.z();
+    const Tape t = Tape::compile(g, (sin(x * y) + sqrt(square(x) + square(z)) * atan2(y, z) - min(x, exp(z))).id());
+    const std::size_t n = 300;
+    std::vector<float> xs(n), ys(n), zs(n);
+    for (std::size_t i = 0; i < n; ++i) xs[i] = test::random_float(rng), ys[i] = test::random_float(rng), zs[i] = test::random_float(rng);
+    GradEvaluator ge;
+    std::vector<Grad> all(n);
+    ge.eval(t, xs.data(), ys.data(), zs.data(), all.data(), n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Grad one = ge.eval(t, xs[i], ys[i], zs[i]);
+      ASSERT_TRUE(test::same_value(one.v, all[i].v) && test::same_value(one.dx, all[i].dx) &&
+                  test::same_value(one.dy, all[i].dy) && test::same_value(one.dz, all[i].dz))
+          << "point " << i;
+    }
+  });
+}
+
+// Values and all three partials are bit-identical on every SIMD target (AVX-512, AVX2, SSE4...).
+TEST(Gradient, EverySimdTargetGivesTheSameBits) {
+  std::mt19937_64 rng(2026);
+  for (int trial = 0; trial < 40; ++trial) {
+    Graph g;
+    test::ExprGen gen(g, rng, {});
+    const Tape t = Tape::compile(g, gen.gen());
+    const std::size_t n = 100;
+    std::vector<float> xs(n), ys(n), zs(n);
+    for (std::size_t i = 0; i < n; ++i) xs[i] = test::random_float(rng), ys[i] = test::random_float(rng), zs[i] = test::random_float(rng);
+    std::vector<Grad> ref;
+    test::for_each_simd_target([&] {
+      GradEvaluator ge;
+      std::vector<Grad> got(n);
+      ge.eval(t, xs.data(), ys.data(), zs.data(), got.data(), n);
+      if (ref.empty()) return ref = got, void();
+      for (std::size_t i = 0; i < n; ++i)
+        ASSERT_TRUE(test::same_value(ref[i].v, got[i].v) && test::same_value(ref[i].dx, got[i].dx) &&
+                    test::same_value(ref[i].dy, got[i].dy) && test::same_value(ref[i].dz, got[i].dz))
+            << "trial " << trial << " point " << i << ": " << test::fstr(ref[i].v) << " " << test::fstr(ref[i].dx) << " "
+            << test::fstr(ref[i].dy) << " " << test::fstr(ref[i].dz) << " vs " << test::fstr(got[i].v) << " "
+            << test::fstr(got[i].dx) << " " << test::fstr(got[i].dy) << " " << test::fstr(got[i].dz) << "\n"
+            << [&] {
+                 std::string d;
+                 for (const SsaInstr& ins : t.ssa())
+                   d += std::string(op_name(ins.op)) + " " + std::to_string(ins.a) + " " + std::to_string(ins.b) + "; ";
+                 return d;
+               }();
+    });
   }
 }
 

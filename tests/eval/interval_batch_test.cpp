@@ -68,29 +68,33 @@ void check_against_scalar(const Tape& tape, std::mt19937_64& rng, int count) {
 }
 
 TEST(IntervalBatch, MatchesScalarIntervalsOnRandomExpressions) {
-  std::mt19937_64 rng(20261122);
-  for (int trial = 0; trial < 200; ++trial) {
-    Graph g;
-    test::GenOptions opt;
-    opt.max_depth = 5;
-    test::ExprGen gen(g, rng, opt);
-    const NodeId root = gen.gen();
-    const Tape tape = Tape::compile(g, root);
-    check_against_scalar(tape, rng, 1 + trial % 16);
-  }
+  test::for_each_simd_target([&] {
+    std::mt19937_64 rng(20261122);
+    for (int trial = 0; trial < 200; ++trial) {
+      Graph g;
+      test::GenOptions opt;
+      opt.max_depth = 5;
+      test::ExprGen gen(g, rng, opt);
+      const NodeId root = gen.gen();
+      const Tape tape = Tape::compile(g, root);
+      check_against_scalar(tape, rng, 1 + trial % 16);
+    }
+  });
 }
 
 TEST(IntervalBatch, MatchesScalarOnMinMaxHeavyExpressions) {
-  std::mt19937_64 rng(7);
-  for (int trial = 0; trial < 100; ++trial) {
-    Graph g;
-    test::GenOptions opt;
-    opt.max_depth = 7;
-    opt.ops = {Op::Min, Op::Max, Op::Add, Op::Sub, Op::Mul, Op::Square, Op::Sqrt, Op::Neg, Op::Abs, Op::And, Op::Or};
-    test::ExprGen gen(g, rng, opt);
-    const Tape tape = Tape::compile(g, gen.gen());
-    check_against_scalar(tape, rng, 16);
-  }
+  test::for_each_simd_target([&] {
+    std::mt19937_64 rng(7);
+    for (int trial = 0; trial < 100; ++trial) {
+      Graph g;
+      test::GenOptions opt;
+      opt.max_depth = 7;
+      opt.ops = {Op::Min, Op::Max, Op::Add, Op::Sub, Op::Mul, Op::Square, Op::Sqrt, Op::Neg, Op::Abs, Op::And, Op::Or};
+      test::ExprGen gen(g, rng, opt);
+      const Tape tape = Tape::compile(g, gen.gen());
+      check_against_scalar(tape, rng, 16);
+    }
+  });
 }
 
 TEST(IntervalBatch, MatchesScalarOnProsperoTiles) {

@@ -10,7 +10,7 @@
 
 namespace frep {
 
-class ThreadPool;
+class Subdivider;
 
 struct RenderOptions {
   int size = 1024;                            // image width and height in pixels (1 to 16384)
@@ -37,9 +37,8 @@ class Renderer2D {
   struct Worker;
 
   RenderOptions options_;
-  std::unique_ptr<ThreadPool> pool_;
-  std::vector<std::unique_ptr<Worker>> workers_;
-  std::vector<std::vector<Tape>> frontier_tapes_;  // simplified tapes of the breadth-first levels
+  std::unique_ptr<Subdivider> subdivider_;
+  std::vector<std::unique_ptr<Worker>> workers_;  // per worker of the subdivider: pixel scratch
 };
 
 // One-shot helper.

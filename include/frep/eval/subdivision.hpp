@@ -1,0 +1,225 @@
+// The subdivision driver shared by everything that walks space with interval pruning: the 2D
+// and 3D renderers, the octree mesher and dense sampling. It splits a box of grid samples into
+// tiles, level by level; at each level up to 16 child boxes go through one SIMD interval pass
+// (IntervalBatchEvaluator) and one shared simplification pass, so that deep boxes evaluate only
+// their local part of the expression. The caller decides, per box, whether its interval settles
+// it (an image tile fully inside, an empty octree cell), and receives the undecided boxes of the
+// last level with their simplified tape.
+//
+// Work is spread over a persistent pool: the first levels are expanded breadth first, then each
+// box of that frontier is finished depth first by one worker, with per-worker scratch (tapes per
+// level). Every box is visited exactly once, so output written per box does not depend on the
+// thread count.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "frep/error.hpp"
+#include "frep/eval/interval.hpp"
+#include "frep/eval/interval_batch.hpp"
+#include "frep/eval/tape.hpp"
+#include "frep/util/thread_pool.hpp"
+
+namespace frep {
+
+// A box of grid indices: [lo[a], hi[a]) along each axis a (x, y, z).
+struct IndexBox {
+  std::array<int, 3> lo{0, 0, 0}, hi{0, 0, 0};
+  int extent(int axis) const { return hi[axis] - lo[axis]; }
+  long long count() const { return static_cast<long long>(extent(0)) * extent(1) * extent(2); }
+};
+
+// Where the grid indices are in space. Each axis lists coordinates, increasing or decreasing
+// (an image's rows run from +y down). Samples: index i is the point coords[i], and a box covers
+// the samples lo..hi-1. Cells: index i is the closed cell [coords[i], coords[i+1]] (coords has
+// one more entry than there are cells), and a box covers lo..hi inclusive.
+struct SampleGrid {
+  std::array<std::vector<float>, 3> coords;
+  bool cells = false;
+
+  // Number of samples or cells along an axis.
+  int count(int axis) const {
+    const int n = static_cast<int>(coords[axis].size());
+    return cells ? std::max(0, n - 1) : n;
+  }
+  IndexBox whole() const { return {{0, 0, 0}, {count(0), count(1), count(2)}}; }
+  // The coordinate range a box covers along an axis.
+  Interval range(int axis, int lo, int hi) const {
+    const float a = coords[axis][lo], b = coords[axis][cells ? hi : hi - 1];
+    return {std::min(a, b), std::max(a, b)};
+  }
+};
+
+struct SubdivisionOptions {
+  std::vector<int> tiles = {256, 64, 16};  // box edge per level in grid steps, largest first
+  int threads = 0;                         // worker threads; 0 = all hardware threads
+  int breadth_first_levels = 2;            // levels expanded breadth first to make parallel work
+};
+
+// Reusable: keeps the pool, per-worker evaluators and tape storage between runs.
+//
+// The visitor provides
+//   bool settled(int worker, const IndexBox& box, Interval value)
+//       after the box's interval evaluation; return true if the value settles the box (the
+//       driver then neither subdivides it nor passes it to leaf()).
+//   void leaf(int worker, const Tape& tape, const IndexBox& box)
+//       for every box of the last level that was not settled; `tape` is simplified for it and
+//       has register code (for the point, batch and gradient evaluators).
+// and optionally
+//   bool skip(int worker, const IndexBox& box)
+//       before a box is evaluated; return true to drop it (e.g. occluded in a 3D render).
+// Visitor calls for different boxes may run concurrently on different workers.
+class Subdivider {
+ public:
+  explicit Subdivider(SubdivisionOptions options = {});
+  ~Subdivider();
+  Subdivider(const Subdivider&) = delete;
+  Subdivider& operator=(const Subdivider&) = delete;
+
+  const SubdivisionOptions& options() const { return options_; }
+  // Number of workers: worker indices passed to the visitor are below this.
+  int workers() const { return pool_->size(); }
+  // The pool, for the caller's own parallel loops between runs (not during one).
+  ThreadPool& pool() { return *pool_; }
+
+  // Subdivides `region` of `grid` (by default all of it) with `tape`.
+  template <class Visitor>
+  void run(const Tape& tape, const SampleGrid& grid, Visitor& visitor) {
+    run(tape, grid, grid.whole(), visitor);
+  }
+  template <class Visitor>
+  void run(const Tape& tape, const SampleGrid& grid, const IndexBox& region, Visitor& visitor);
+
+ private:
+  static constexpr int kLanes = IntervalBatchEvaluator::kLanes;
+  struct Worker {
+    IntervalBatchEvaluator boxes;
+    std::vector<std::array<Tape, kLanes>> tapes;  // per level: the current group's children
+  };
+  struct Item {
+    IndexBox box;
+    const Tape* tape;  // valid inside box
+  };
+
+  // Splits `parent` (valid tape `t`) into boxes of level `level`, 16 at a time: one interval pass
+  // settles them or not, one shared pass simplifies `t` for the others into outs(group), and
+  // next(child) receives each unsettled child.
+  template <class Visitor, class Outs, class Next>
+  void split(Worker& w, const Tape& t, const SampleGrid& grid, int level, const IndexBox& parent, Visitor& v,
+             int worker, Outs&& outs, Next&& next);
+
+  SubdivisionOptions options_;
+  std::unique_ptr<ThreadPool> pool_;
+  std::vector<std::unique_ptr<Worker>> workers_;
+  std::vector<std::vector<Tape>> frontier_tapes_;  // simplified tapes of the breadth-first levels
+};
+
+// ---------------------------------------------------------------------------------------------
+// Implementation (a template: the visitor's calls inline into the loops).
+
+template <class Visitor, class Outs, class Next>
+void Subdivider::split(Worker& w, const Tape& t, const SampleGrid& grid, int level, const IndexBox& parent,
+                       Visitor& v, int worker, Outs&& outs, Next&& next) {
+  const int step = options_.tiles[static_cast<std::size_t>(level)];
+  const bool last = level + 1 == static_cast<int>(options_.tiles.size());
+  IndexBox boxes[kLanes];
+  Interval xi[kLanes], yi[kLanes], zi[kLanes];
+  int count = 0, group = 0;
+  auto flush = [&] {
+    w.boxes.eval(t, xi, yi, zi, count);
+    std::uint32_t open = 0;
+    for (int k = 0; k < count; ++k)
+      if (!v.settled(worker, boxes[k], w.boxes.result(k))) open |= 1u << k;
+    if (open) {
+      // Nothing to prune without choices, unless the children need register code.
+      const bool reuse = t.choice_count() == 0 && (!last || !t.code().empty());
+      Tape* dst = outs(group);
+      if (!reuse) w.boxes.simplify(t, open, dst, last);
+      for (std::uint32_t bits = open; bits; bits &= bits - 1) {
+        const int k = __builtin_ctz(bits);
+        next(Item{boxes[k], reuse ? &t : &dst[k]});
+      }
+    }
+    count = 0;
+    ++group;
+  };
+  for (int z = parent.lo[2]; z < parent.hi[2]; z += step)
+    for (int y = parent.lo[1]; y < parent.hi[1]; y += step)
+      for (int x = parent.lo[0]; x < parent.hi[0]; x += step) {
+        IndexBox& b = boxes[count];
+        b.lo = {x, y, z};
+        b.hi = {std::min(x + step, parent.hi[0]), std::min(y + step, parent.hi[1]), std::min(z + step, parent.hi[2])};
+        if constexpr (requires { v.skip(worker, b); }) {
+          if (v.skip(worker, b)) continue;
+        }
+        xi[count] = grid.range(0, b.lo[0], b.hi[0]);
+        yi[count] = grid.range(1, b.lo[1], b.hi[1]);
+        zi[count] = grid.range(2, b.lo[2], b.hi[2]);
+        if (++count == kLanes) flush();
+      }
+  if (count) flush();
+}
+
+template <class Visitor>
+void Subdivider::run(const Tape& tape, const SampleGrid& grid, const IndexBox& region, Visitor& v) {
+  FREP_ASSERT(tape.size() > 0, "empty tape");
+  for (int a = 0; a < 3; ++a) {
+    FREP_ASSERT(region.lo[a] >= 0 && region.hi[a] <= grid.count(a), "region outside the grid");
+    if (region.lo[a] >= region.hi[a]) return;
+  }
+  const int levels = static_cast<int>(options_.tiles.size());
+  for (auto& w : workers_)
+    if (static_cast<int>(w->tapes.size()) < levels) w->tapes.resize(static_cast<std::size_t>(levels));
+
+  // Depth first below the parallel frontier; recursion depth is the number of levels.
+  auto descend = [&](auto&& self, int wi, const Item& item, int level) -> void {
+    if (level + 1 == levels) return v.leaf(wi, *item.tape, item.box);
+    Worker& w = *workers_[static_cast<std::size_t>(wi)];
+    split(w, *item.tape, grid, level + 1, item.box, v, wi,
+          [&](int) { return w.tapes[static_cast<std::size_t>(level + 1)].data(); },
+          [&](const Item& child) { self(self, wi, child, level + 1); });
+  };
+
+  // Breadth first for the first levels, so that the parallel work items are many and small
+  // enough to balance. Simplified tapes of the frontier are kept per level.
+  const int bfs_levels = std::clamp(options_.breadth_first_levels, 1, levels);
+  if (static_cast<int>(frontier_tapes_.size()) < bfs_levels) frontier_tapes_.resize(static_cast<std::size_t>(bfs_levels));
+  std::vector<Item> frontier{{region, &tape}};
+  for (int level = 0; level < bfs_levels; ++level) {
+    const int step = options_.tiles[static_cast<std::size_t>(level)];
+    std::size_t most = 0;  // children of the largest frontier box
+    for (const Item& it : frontier) {
+      std::size_t c = 1;
+      for (int a = 0; a < 3; ++a) c *= static_cast<std::size_t>((it.box.extent(a) + step - 1) / step);
+      most = std::max(most, c);
+    }
+    const std::size_t groups = (most + kLanes - 1) / kLanes;
+    std::vector<Tape>& store = frontier_tapes_[static_cast<std::size_t>(level)];
+    if (store.size() < frontier.size() * groups * kLanes) store.resize(frontier.size() * groups * kLanes);
+    std::vector<std::vector<Item>> parts(frontier.size());
+    pool_->parallel_for(static_cast<int>(frontier.size()), [&](int wi, int i) {
+      Worker& w = *workers_[static_cast<std::size_t>(wi)];
+      const Item& it = frontier[static_cast<std::size_t>(i)];
+      std::vector<Item>& out = parts[static_cast<std::size_t>(i)];
+      auto keep = [&](const Item& child) { out.push_back(child); };
+      auto tapes = [&](int g) { return &store[(static_cast<std::size_t>(i) * groups + static_cast<std::size_t>(g)) * kLanes]; };
+      if (level + 1 == levels) {
+        // The frontier is the last level: its boxes are leaves.
+        split(w, *it.tape, grid, level, it.box, v, wi, tapes, [&](const Item& child) { v.leaf(wi, *child.tape, child.box); });
+      } else {
+        split(w, *it.tape, grid, level, it.box, v, wi, tapes, keep);
+      }
+    });
+    frontier.clear();
+    for (auto& p : parts) frontier.insert(frontier.end(), p.begin(), p.end());
+  }
+  if (bfs_levels == levels) return;
+  pool_->parallel_for(static_cast<int>(frontier.size()),
+                      [&](int wi, int i) { descend(descend, wi, frontier[static_cast<std::size_t>(i)], bfs_levels - 1); });
+}
+
+}  // namespace frep

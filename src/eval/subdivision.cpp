@@ -1,0 +1,20 @@
+// The non-template part of the subdivision driver: options checks and per-worker scratch.
+#include "frep/eval/subdivision.hpp"
+
+#include <string>
+
+namespace frep {
+
+Subdivider::Subdivider(SubdivisionOptions options) : options_(std::move(options)) {
+  if (options_.tiles.empty()) throw std::invalid_argument("subdivision needs at least one tile level");
+  for (std::size_t i = 0; i < options_.tiles.size(); ++i) {
+    if (options_.tiles[i] < 1) throw std::invalid_argument("tile sizes must be positive");
+    if (i > 0 && options_.tiles[i] > options_.tiles[i - 1]) throw std::invalid_argument("tile sizes must not increase");
+  }
+  pool_ = std::make_unique<ThreadPool>(options_.threads);
+  for (int i = 0; i < pool_->size(); ++i) workers_.push_back(std::make_unique<Worker>());
+}
+
+Subdivider::~Subdivider() = default;
+
+}  // namespace frep
