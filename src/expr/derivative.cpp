@@ -63,13 +63,16 @@ class Build {
     return (d_wild && !p_nonzero) ? bin(Op::And, p, prod) : prod;
   }
 
-  // k != 0 ? x : y, where nk is zero exactly where k is not (the evaluator's choice rules).
+  // k != 0 ? x : y, where nk is zero exactly where k is not (the evaluator's choice rules), as
+  // and(k, x) + and(nk, y): the unchosen side is exactly 0 (and returns its zero first argument),
+  // so the value is the chosen side's, and so is the gradient, also where that side is exactly 0
+  // (or(and(k, x), and(nk, y)) would fall through to a constant there: second derivatives of 0).
   NodeId select(NodeId k, NodeId nk, NodeId x, NodeId y) {
     if (x == y) return x;
     if (is_zero(x) && is_zero(y)) return zero_;
     if (is_zero(x)) return bin(Op::And, nk, y);  // nk == 0 returns nk, a zero
     if (is_zero(y)) return bin(Op::And, k, x);
-    return bin(Op::Or, bin(Op::And, k, x), bin(Op::And, nk, y));
+    return bin(Op::Add, bin(Op::And, k, x), bin(Op::And, nk, y));
   }
 
   // -1 where a < 0, else +1 (so abs'(0) = +1): or(compare(a, 0), 1).

@@ -311,6 +311,22 @@ TEST(Derivative, GradientsWriteToVm) {
   }
 }
 
+// A choice's derivative is the chosen side's also where that side is exactly 0, so second
+// derivatives are right there too: d/dx max(x*y, x*z) = y where x*y wins, and at y = 0 its
+// d/dy is 1 (a select falling through to a constant 0 would give 0).
+TEST(Derivative, SelectedZeroKeepsItsGradient) {
+  Graph g;
+  auto x = g.x(), y = g.y(), z = g.z();
+  const Gradient first = grad(max(x * y, x * z));
+  const Gradient second = grad(first.x);
+  PointEvaluator pe;
+  GradEvaluator ge;
+  EXPECT_EQ(pe.eval(Tape::compile(g, first.x.id()), 1.0f, 0.0f, -1.0f), 0.0f);
+  EXPECT_EQ(pe.eval(Tape::compile(g, second.y.id()), 1.0f, 0.0f, -1.0f), 1.0f);
+  EXPECT_EQ(pe.eval(Tape::compile(g, second.z.id()), 1.0f, 0.0f, -1.0f), 0.0f);
+  EXPECT_EQ(ge.eval(Tape::compile(g, first.x.id()), 1.0f, 0.0f, -1.0f).dy, 1.0f);
+}
+
 // Second derivatives come for free: grad of a gradient component.
 TEST(Derivative, SecondDerivatives) {
   Graph g;
