@@ -35,7 +35,7 @@ class EdgeOps : public ::testing::Test {
  protected:
   // Samples `f` around the edge of `fr` and compares with `ref`.
   void check(const std::string& name, Expr f, const Frame3& fr, const std::function<double(V2)>& ref,
-             const ExactWhere& exact, bool unit_gradient = true, int n = 800) {
+             const ExactWhere& exact, bool unit_gradient = true, int n = 500) {
     Field F(f);
     OpStats& st = stats_[name];
     for (int i = 0; i < n; ++i) {

@@ -245,10 +245,15 @@ inline Profile rounded_profile(const Wedge& w, double r) {
 // f32 value (point evaluator), gradient (gradient evaluator), and double-precision value.
 class Field {
  public:
-  explicit Field(Expr e) : g_(&e.graph()), root_(e.id()), tape_(Tape::compile(e.graph(), e.id())) {}
+  explicit Field(Expr e) : tape_(Tape::compile(e.graph(), e.id())) {}
   float operator()(const std::array<float, 3>& p) { return pe_.eval(tape_, p[0], p[1], p[2]); }
   Grad grad(const std::array<float, 3>& p) { return ge_.eval(tape_, p[0], p[1], p[2]); }
-  double exact(double x, double y, double z) const { return test::eval_graph<double>(*g_, root_, x, y, z); }
+  // The same expression evaluated in double precision (the reference semantics).
+  double exact(double x, double y, double z) const {
+    test::eval_ssa_all<double>(tape_.ssa(), x, y, z, scratch_);
+    return scratch_.back();
+  }
+  double exact(const std::array<double, 3>& p) const { return exact(p[0], p[1], p[2]); }
   // Central differences of the double-precision evaluation; NaN where two step sizes disagree
   // (a crease within reach).
   std::array<double, 3> fd_grad(const std::array<float, 3>& p, double h = 1e-5) const {
@@ -267,9 +272,8 @@ class Field {
   std::size_t size() const { return tape_.size(); }
 
  private:
-  Graph* g_;
-  NodeId root_;
   Tape tape_;
+  mutable std::vector<double> scratch_;
   PointEvaluator pe_;
   GradEvaluator ge_;
 };
