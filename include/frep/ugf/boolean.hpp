@@ -18,9 +18,11 @@ Expr unite(Expr A, Expr B);
 Expr subtract(Expr A, Expr B);
 
 // Distance-preserving intersection: inside the edge's normal cone (B - cA > 0 and A - cB > 0)
-// the distance to the edge, sqrt(A^2 + B^2 - 2cAB) / sin(phi); elsewhere max(A, B). The exact
+// the distance to the edge, sqrt(A^2 + B^2 - 2cAB) / sin(phi) (evaluated as the length of
+// (A, (B - cA) / sin(phi)), equal and better conditioned in f32); elsewhere max(A, B). The exact
 // signed distance of the wedge for planes at any angle; for curved inputs c varies and the cone
-// test is first-order. Near phi = 0 or 180 degrees (EdgeOptions) it falls back to max(A, B).
+// test is first-order (exact at the edge). Near phi = 0 or 180 degrees (EdgeOptions) it falls
+// back to max(A, B). Its gradient is finite everywhere (0 on the edge itself).
 Expr intersect_exact(Expr A, Expr B, const EdgeOptions& opt = {});
 // Union by duality, -intersect_exact(-A, -B): exact for planes at any angle.
 Expr unite_exact(Expr A, Expr B, const EdgeOptions& opt = {});
