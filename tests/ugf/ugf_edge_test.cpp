@@ -31,7 +31,7 @@ const ExactWhere kEverywhere = [](V2, double) { return true; };
 const ExactWhere kInside = [](V2, double r) { return r <= 0; };
 const ExactWhere kOutside = [](V2, double r) { return r >= 0; };
 
-class EdgeOps : public ::testing::Test {
+class UgfEdgeOps : public ::testing::Test {
  protected:
   // Samples `f` around the edge of `fr` and compares with `ref`.
   void check(const std::string& name, Expr f, const Frame3& fr, const std::function<double(V2)>& ref,
@@ -102,7 +102,7 @@ class EdgeOps : public ::testing::Test {
   std::map<std::string, OpStats> stats_;
 };
 
-TEST_F(EdgeOps, Booleans) {
+TEST_F(UgfEdgeOps, Booleans) {
   for (double phi : angles()) {
     fr_phi_ = phi;
     const Wedge w = Wedge::symmetric(phi), wu = w.flipped();
@@ -127,7 +127,7 @@ TEST_F(EdgeOps, Booleans) {
   }
 }
 
-TEST_F(EdgeOps, RightAngleForms) {
+TEST_F(UgfEdgeOps, RightAngleForms) {
   for (int rep = 0; rep < 4; ++rep) {
     fr_phi_ = M_PI / 2;
     const Wedge w = Wedge::symmetric(M_PI / 2), wu = w.flipped();
@@ -153,7 +153,7 @@ TEST_F(EdgeOps, RightAngleForms) {
   }
 }
 
-TEST_F(EdgeOps, Chamfers) {
+TEST_F(UgfEdgeOps, Chamfers) {
   for (double phi : angles()) {
     fr_phi_ = phi;
     const Wedge w = Wedge::symmetric(phi), wu = w.flipped();
@@ -189,7 +189,7 @@ TEST_F(EdgeOps, Chamfers) {
   }
 }
 
-TEST_F(EdgeOps, Rounds) {
+TEST_F(UgfEdgeOps, Rounds) {
   for (double phi : angles()) {
     fr_phi_ = phi;
     const Wedge w = Wedge::symmetric(phi), wu = w.flipped();
@@ -204,7 +204,7 @@ TEST_F(EdgeOps, Rounds) {
   }
 }
 
-TEST_F(EdgeOps, PencilsAndTheEdgeFrame) {
+TEST_F(UgfEdgeOps, PencilsAndTheEdgeFrame) {
   for (double phi : angles()) {
     fr_phi_ = phi;
     const Wedge w = Wedge::symmetric(phi);
