@@ -1,9 +1,50 @@
+// Loading an expression file: `.vm` and `.rhai` by extension, anything else by content.
 #include "frep/io/load.hpp"
 
+#include <string_view>
+
+#include "frep/io/atomic_file.hpp"
+#include "frep/io/rhai.hpp"
 #include "frep/io/vm.hpp"
 
 namespace frep {
+namespace {
 
-Model load_expression(const std::string& path) { return read_vm(path); }
+bool ends_with(const std::string& s, std::string_view suffix) {
+  return s.size() >= suffix.size() && std::string_view(s).substr(s.size() - suffix.size()) == suffix;
+}
+
+// A `.vm` file's first instruction line is `<id> <opcode> ...` with a known opcode (`#` starts
+// a comment); a Rhai script's first line never is (its comments start with `//`).
+bool looks_like_vm(std::string_view text) {
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    std::size_t eol = text.find('\n', pos);
+    if (eol == std::string_view::npos) eol = text.size();
+    std::string_view line = text.substr(pos, eol - pos);
+    pos = eol + 1;
+    if (std::size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+    auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; };
+    std::size_t i = 0;
+    while (i < line.size() && is_space(line[i])) ++i;
+    if (i == line.size()) continue;  // blank or comment: look at the next line
+    while (i < line.size() && !is_space(line[i])) ++i;  // the id
+    while (i < line.size() && is_space(line[i])) ++i;
+    std::size_t j = i;
+    while (j < line.size() && !is_space(line[j])) ++j;
+    return op_from_name(line.substr(i, j - i)).has_value();
+  }
+  return false;
+}
+
+}  // namespace
+
+Model load_expression(const std::string& path) {
+  if (ends_with(path, ".vm")) return read_vm(path);
+  if (ends_with(path, ".rhai")) return read_rhai(path);
+  const std::string text = read_file(path);
+  if (looks_like_vm(text)) return parse_vm(text, path);
+  return parse_rhai(text, path);
+}
 
 }  // namespace frep
