@@ -6,10 +6,11 @@
 // Fidget maps to its mod opcode; the other opcodes are Fidget's functions by their names
 // (`compare`, `and`, `or`, `not`, `atan2`, `square`, ...). `recip a` has no function in Fidget
 // and is written `1.0 / a` (frep's graph turns that back into recip). Constants use the
-// shortest of %.1g .. %.9g that reads back to the same f32 through f64 (as both Fidget and frep
-// read numbers), with a decimal point so they are floats; infinities and NaN, which Rhai has no
+// shortest text that reads back to the same f32 through f64 (as both Fidget and frep read
+// numbers), with a decimal point so they are floats; infinities and NaN, which Rhai has no
 // literals for, are written parse_float("inf") and parse_float("NaN").
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -56,12 +57,13 @@ const char* infix(Op op) {
 std::string constant_text(float v) {
   if (std::isnan(v)) return "parse_float(\"NaN\")";
   if (std::isinf(v)) return v > 0 ? "parse_float(\"inf\")" : "parse_float(\"-inf\")";
+  // The shortest text that reads back to v as f32 (std::to_chars), checked through f64 as the
+  // readers parse it; %.9g, which is always exact, if that check ever fails.
   char buf[48];
-  for (int prec = 1; prec <= 9; ++prec) {
-    std::snprintf(buf, sizeof buf, "%.*g", prec, static_cast<double>(v));
-    const float back = static_cast<float>(std::strtod(buf, nullptr));
-    if (std::memcmp(&back, &v, sizeof v) == 0) break;
-  }
+  const auto r = std::to_chars(buf, buf + sizeof buf - 1, v);
+  *r.ptr = '\0';
+  const float back = static_cast<float>(std::strtod(buf, nullptr));
+  if (std::memcmp(&back, &v, sizeof v) != 0) std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(v));
   std::string s = buf;
   const std::size_t e = s.find('e');
   if (s.find('.') == std::string::npos) {
@@ -140,26 +142,25 @@ class Writer {
       len_[id] = static_cast<std::uint32_t>(leaf_len(id));
       return;
     }
-    for (int pass = 0; pass < 2; ++pass) {
+    for (;;) {
       std::size_t len = std::string_view(op_name(n.op)).size() + 6;
       int depth = 0;
+      NodeId biggest = kNoNode;  // the compound inline child with the longest text
       for (int k = 0; k < ar; ++k) {
         const NodeId c = k == 0 ? n.a : n.b;
         if (inline_node(c)) {
           len += len_[c];
           depth = std::max(depth, depth_[c]);
+          if (!is_leaf(c) && (biggest == kNoNode || len_[c] > len_[biggest])) biggest = c;
         } else {
           len += 8;
         }
       }
       len_[id] = static_cast<std::uint32_t>(std::min<std::size_t>(len, 1u << 30));
       depth_[id] = depth + 1;
-      if (depth_[id] <= kMaxDepth && len <= kMaxLine) return;
-      // Too long or too deep: give the compound children names of their own.
-      for (int k = 0; k < ar; ++k) {
-        const NodeId c = k == 0 ? n.a : n.b;
-        if (inline_node(c) && !is_leaf(c)) name_[c] = 0;  // any value other than kNoName
-      }
+      if ((depth_[id] <= kMaxDepth && len <= kMaxLine) || biggest == kNoNode) return;
+      // Too long or too deep: the longest compound child gets a name of its own.
+      name_[biggest] = 0;  // any value other than kNoName; numbered when written
     }
   }
 
