@@ -734,6 +734,7 @@ Value Interp::eval_assign(std::uint32_t n) {
 // Calls
 
 std::uint32_t Interp::find_fn(std::uint32_t sym, std::size_t arity) const {
+  if (fn_index_.empty()) return kNone;
   auto it = fn_index_.find(fn_key(sym, arity));
   return it == fn_index_.end() ? kNone : it->second;
 }

@@ -1,6 +1,7 @@
 // The Rhai lexer (see rhai_lexer.hpp).
 #include "io/rhai_lexer.hpp"
 
+#include <array>
 #include <charconv>
 #include <cstdio>
 #include <cstring>
@@ -85,22 +86,28 @@ std::string tok_text(Tok t) {
 // ---------------------------------------------------------------------------------------------
 // Symbols
 
-Symbols::Symbols() : slots_(1024, kNone) {}
+namespace {
+constexpr std::uint64_t kEmptySlot = ~0ull;
+std::uint64_t slot_of(std::uint64_t h, std::uint32_t id) { return (h & 0xFFFFFFFF00000000ull) | id; }
+}  // namespace
+
+Symbols::Symbols() : slots_(1024, kEmptySlot) {}
 
 std::uint64_t Symbols::hash(std::string_view s) {
   std::uint64_t h = 1469598103934665603ull;  // FNV-1a, then a final mix
   for (char c : s) h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
   h ^= h >> 29;
-  return h * 0x9E3779B97F4A7C15ull >> 20;
+  return h * 0x9E3779B97F4A7C15ull;  // the slot index comes from the low bits, the tag from the high
 }
 
 void Symbols::grow() {
-  std::vector<std::uint32_t> bigger(slots_.size() * 2, kNone);
+  std::vector<std::uint64_t> bigger(slots_.size() * 2, kEmptySlot);
   const std::size_t mask = bigger.size() - 1;
   for (std::uint32_t id = 0; id < names_.size(); ++id) {
-    std::size_t s = hash(names_[id]) & mask;
-    while (bigger[s] != kNone) s = (s + 1) & mask;
-    bigger[s] = id;
+    const std::uint64_t h = hash(names_[id]);
+    std::size_t s = (h >> 16) & mask;
+    while (bigger[s] != kEmptySlot) s = (s + 1) & mask;
+    bigger[s] = slot_of(h, id);
   }
   slots_.swap(bigger);
 }
@@ -108,22 +115,26 @@ void Symbols::grow() {
 std::uint32_t Symbols::intern(std::string_view name) {
   if ((names_.size() + 1) * 2 > slots_.size()) grow();
   const std::size_t mask = slots_.size() - 1;
-  std::size_t s = hash(name) & mask;
-  while (slots_[s] != kNone) {
-    if (names_[slots_[s]] == name) return slots_[s];
+  const std::uint64_t h = hash(name);
+  std::size_t s = (h >> 16) & mask;
+  while (slots_[s] != kEmptySlot) {
+    const std::uint64_t e = slots_[s];
+    if ((e >> 32) == (h >> 32) && names_[static_cast<std::uint32_t>(e)] == name) return static_cast<std::uint32_t>(e);
     s = (s + 1) & mask;
   }
   const auto id = static_cast<std::uint32_t>(names_.size());
   names_.push_back(name);
-  slots_[s] = id;
+  slots_[s] = slot_of(h, id);
   return id;
 }
 
 std::uint32_t Symbols::find(std::string_view name) const {
   const std::size_t mask = slots_.size() - 1;
-  std::size_t s = hash(name) & mask;
-  while (slots_[s] != kNone) {
-    if (names_[slots_[s]] == name) return slots_[s];
+  const std::uint64_t h = hash(name);
+  std::size_t s = (h >> 16) & mask;
+  while (slots_[s] != kEmptySlot) {
+    const std::uint64_t e = slots_[s];
+    if ((e >> 32) == (h >> 32) && names_[static_cast<std::uint32_t>(e)] == name) return static_cast<std::uint32_t>(e);
     s = (s + 1) & mask;
   }
   return kNone;
@@ -166,6 +177,14 @@ constexpr Keyword kKeywords[] = {
 // Rhai keywords for features this reader does not have: a clear error instead of a confusing one.
 constexpr std::string_view kUnsupported[] = {"switch", "import", "export", "private", "this",
                                              "try",    "catch",  "global", "as",      "Fn"};
+
+// First letters of the keywords above, so that most names skip the keyword comparisons.
+constexpr auto kMaybeKeyword = [] {
+  std::array<bool, 256> t{};
+  for (const Keyword& k : kKeywords) t[static_cast<unsigned char>(k.word[0])] = true;
+  for (std::string_view u : kUnsupported) t[static_cast<unsigned char>(u[0])] = true;
+  return t;
+}();
 
 std::string printable(char c) {
   const auto u = static_cast<unsigned char>(c);
@@ -233,15 +252,15 @@ Token Lexer::next() {
     while (e < n && is_ident_char(text_[e])) ++e;
     const std::string_view word = text_.substr(p_, e - p_);
     p_ = e;
-    if (word.size() <= 8 && word[0] >= 'b' && word[0] <= 'w') {
+    if (word.size() >= 2 && word.size() <= 8 && kMaybeKeyword[static_cast<unsigned char>(word[0])]) {
       for (const Keyword& k : kKeywords)
         if (k.word == word) {
           t.kind = k.tok;
           return t;
         }
+      for (std::string_view u : kUnsupported)
+        if (u == word) fail(t.pos, "`" + std::string(word) + "` is not supported by frep's Rhai reader");
     }
-    for (std::string_view u : kUnsupported)
-      if (u == word) fail(t.pos, "`" + std::string(word) + "` is not supported by frep's Rhai reader");
     t.kind = Tok::Ident;
     t.sym = symbols_.intern(word);
     return t;

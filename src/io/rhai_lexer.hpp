@@ -53,7 +53,9 @@ class Symbols {
   static std::uint64_t hash(std::string_view s);
   void grow();
   std::vector<std::string_view> names_;
-  std::vector<std::uint32_t> slots_;  // open addressing, kNone = empty
+  // Open addressing: (32 bits of the hash << 32 | id), all ones = empty. The stored hash bits
+  // let a probe skip other names without touching their text.
+  std::vector<std::uint64_t> slots_;
 };
 
 // Line and 1-based column (in characters) of a byte offset; computed only for error messages.
