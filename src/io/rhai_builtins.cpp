@@ -255,6 +255,7 @@ Value fn_len(Interp& in, Args a, std::uint32_t pos) {
     case Kind::Array: return Value::integer(static_cast<std::int64_t>(a[0].as<ArrayObj>().items.size()));
     case Kind::Map: return Value::integer(static_cast<std::int64_t>(a[0].as<MapObj>().items.size()));
     case Kind::Str: {
+      in.charge(a[0].as<StrObj>().text.size() / 16);
       std::int64_t n = 0;
       for (unsigned char c : a[0].as<StrObj>().text) n += (c & 0xC0) != 0x80;
       return Value::integer(n);
@@ -275,7 +276,7 @@ Value fn_contains(Interp& in, Args a, std::uint32_t pos) {
 
 ArrayObj& array_arg(Interp& in, std::string_view name, Args a, std::uint32_t pos, const char* expected) {
   if (a.empty() || a[0].kind() != Kind::Array) wrong_args(in, name, a, pos, expected);
-  return mutable_array(a[0]);
+  return in.own_array(a[0]);
 }
 
 std::size_t index_arg(Interp& in, const Value& v, std::size_t size, bool allow_end, std::uint32_t pos) {
@@ -301,6 +302,7 @@ Value fn_append(Interp& in, Args a, std::uint32_t pos) {
   if (a.size() != 2 || a[1].kind() != Kind::Array) wrong_args(in, "append", a, pos, "(array, array)");
   ArrayObj& arr = array_arg(in, "append", a, pos, "(array, array)");
   const Value more = a[1];
+  in.charge(more.as<ArrayObj>().items.size());
   arr.items.insert(arr.items.end(), more.as<ArrayObj>().items.begin(), more.as<ArrayObj>().items.end());
   arr.depth = std::max(arr.depth, more.as<ArrayObj>().depth);
   return Value();
@@ -321,6 +323,7 @@ Value fn_insert(Interp& in, Args a, std::uint32_t pos) {
   const std::size_t i = index_arg(in, a[1], arr.items.size(), true, pos);
   arr.depth = std::max(arr.depth, value_depth(a[2]) + 1);
   in.check_depth(arr.depth, pos);
+  in.charge(arr.items.size() - i);
   arr.items.insert(arr.items.begin() + static_cast<std::ptrdiff_t>(i), a[2]);
   return Value();
 }
@@ -329,7 +332,7 @@ Value fn_remove(Interp& in, Args a, std::uint32_t pos) {
   if (a.size() != 2) wrong_args(in, "remove", a, pos, "(array, position) or (map, key)");
   if (a[0].kind() == Kind::Map) {
     if (a[1].kind() != Kind::Str) wrong_args(in, "remove", a, pos, "(map, key)");
-    MapObj& m = mutable_map(a[0]);
+    MapObj& m = in.own_map(a[0]);
     auto it = m.items.find(a[1].as<StrObj>().text);
     if (it == m.items.end()) return Value();
     Value v = std::move(it->second);
@@ -338,6 +341,7 @@ Value fn_remove(Interp& in, Args a, std::uint32_t pos) {
   }
   ArrayObj& arr = array_arg(in, "remove", a, pos, "(array, position) or (map, key)");
   const std::size_t i = index_arg(in, a[1], arr.items.size(), false, pos);
+  in.charge(arr.items.size() - i);
   Value v = std::move(arr.items[i]);
   arr.items.erase(arr.items.begin() + static_cast<std::ptrdiff_t>(i));
   return v;
@@ -345,7 +349,7 @@ Value fn_remove(Interp& in, Args a, std::uint32_t pos) {
 
 Value fn_clear(Interp& in, Args a, std::uint32_t pos) {
   if (a.size() == 1 && a[0].kind() == Kind::Map) {
-    mutable_map(a[0]).items.clear();
+    in.own_map(a[0]).items.clear();
     return Value();
   }
   if (a.size() != 1) wrong_args(in, "clear", a, pos, "(array) or (map)");
@@ -356,6 +360,7 @@ Value fn_clear(Interp& in, Args a, std::uint32_t pos) {
 Value fn_reverse(Interp& in, Args a, std::uint32_t pos) {
   if (a.size() != 1) wrong_args(in, "reverse", a, pos, "(array)");
   ArrayObj& arr = array_arg(in, "reverse", a, pos, "(array)");
+  in.charge(arr.items.size());
   std::reverse(arr.items.begin(), arr.items.end());
   return Value();
 }
@@ -372,6 +377,7 @@ Value fn_keys(Interp& in, Args a, std::uint32_t pos) {
   if (a.size() != 1 || a[0].kind() != Kind::Map) wrong_args(in, "keys", a, pos, "(map)");
   auto* arr = new ArrayObj();
   Value out = Value::heap(arr);
+  in.charge(a[0].as<MapObj>().items.size());
   for (const auto& kv : a[0].as<MapObj>().items) arr->items.push_back(make_string(kv.first));
   return out;
 }
@@ -380,6 +386,7 @@ Value fn_values(Interp& in, Args a, std::uint32_t pos) {
   if (a.size() != 1 || a[0].kind() != Kind::Map) wrong_args(in, "values", a, pos, "(map)");
   auto* arr = new ArrayObj();
   Value out = Value::heap(arr);
+  in.charge(a[0].as<MapObj>().items.size());
   for (const auto& kv : a[0].as<MapObj>().items) arr->items.push_back(kv.second);
   arr->depth = a[0].as<MapObj>().depth;
   return out;

@@ -88,11 +88,50 @@ void Interp::check_depth(std::uint32_t depth, std::uint32_t pos) const {
 }
 
 void Interp::step(std::uint32_t pos) {
-  if (++steps_ > max_steps_)
-    fail(pos, "the script ran for more than " + std::to_string(max_steps_) +
-                  " steps and was stopped (an endless loop?); see docs/rhai.md for the limit");
-  if (max_nodes_ && (steps_ & 255) == 0 && g_.size() > max_nodes_)
-    fail(pos, "the script built more than " + std::to_string(max_nodes_) + " expression nodes and was stopped");
+  cur_pos_ = pos;
+  charge(1);
+}
+
+void Interp::charge(std::uint64_t units) {
+  steps_ += units;
+  if (steps_ > max_steps_)
+    fail(cur_pos_, "the script ran for more than " + std::to_string(max_steps_) +
+                       " steps and was stopped (an endless loop?); see docs/rhai.md for the limit");
+  if (max_nodes_ && g_.size() > max_nodes_)
+    fail(cur_pos_, "the script built more than " + std::to_string(max_nodes_) + " expression nodes and was stopped");
+}
+
+std::string Interp::text_of(const Value& v) {
+  std::uint64_t budget = max_steps_ - std::min(steps_, max_steps_);
+  const std::uint64_t start = budget;
+  std::string s = to_text(v, g_, budget);
+  charge(start - budget + s.size() / 16);
+  if (budget == 0) charge(1);  // ran out: the limit error
+  return s;
+}
+
+bool Interp::equal(const Value& a, const Value& b) {
+  std::uint64_t budget = max_steps_ - std::min(steps_, max_steps_);
+  const std::uint64_t start = budget;
+  const bool eq = values_equal(a, b, budget);
+  charge(start - budget);
+  if (budget == 0) charge(1);
+  return eq;
+}
+
+ArrayObj& Interp::own_array(Value& v) {
+  if (!v.unique()) charge(v.as<ArrayObj>().items.size());
+  return mutable_array(v);
+}
+
+MapObj& Interp::own_map(Value& v) {
+  if (!v.unique()) charge(v.as<MapObj>().items.size());
+  return mutable_map(v);
+}
+
+StrObj& Interp::own_string(Value& v) {
+  if (!v.unique()) charge(v.as<StrObj>().text.size() / 16);
+  return mutable_string(v);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -269,7 +308,7 @@ Value* Interp::place(std::uint32_t target, bool for_write) {
       const Value& key = args_[k++];
       if (p->kind() == Kind::Array) {
         path_.push_back(p);
-        ArrayObj& arr = mutable_array(*p);
+        ArrayObj& arr = own_array(*p);
         if (key.kind() != Kind::Int) fail(link.pos, std::string("array index must be an integer, not ") + type_name(key));
         std::int64_t idx = key.as_int();
         const auto size = static_cast<std::int64_t>(arr.items.size());
@@ -280,7 +319,7 @@ Value* Interp::place(std::uint32_t target, bool for_write) {
       } else if (p->kind() == Kind::Map) {
         if (key.kind() != Kind::Str) fail(link.pos, std::string("map index must be a string, not ") + type_name(key));
         path_.push_back(p);
-        MapObj& m = mutable_map(*p);
+        MapObj& m = own_map(*p);
         p = &m.items[key.as<StrObj>().text];
       } else {
         fail(link.pos, std::string("cannot assign into an element of ") + type_name(*p));
@@ -291,7 +330,7 @@ Value* Interp::place(std::uint32_t target, bool for_write) {
         fail(link.pos, std::string("cannot set property `") + std::string(symbols_.name(link.b)) + "` of " + type_name(*p));
       }
       path_.push_back(p);
-      MapObj& m = mutable_map(*p);
+      MapObj& m = own_map(*p);
       const std::string_view key = symbols_.name(link.b);
       auto it = m.items.find(key);
       if (it == m.items.end()) it = m.items.emplace(std::string(key), Value()).first;
@@ -675,6 +714,7 @@ Value Interp::eval_for(std::uint32_t n) {
     }
     case Kind::Str: {
       const std::string s = it.as<StrObj>().text;
+      charge(s.size() / 16);
       std::int64_t k = 0;
       for (std::size_t i = 0; i < s.size(); ++k) {
         std::size_t len = 1;

@@ -62,7 +62,15 @@ class Interp {
   Graph& graph() { return g_; }
   [[noreturn]] void fail(std::uint32_t pos, const std::string& message) const;
   std::string_view symbol_name(std::uint32_t sym) const { return symbols_.name(sym); }
-  std::string text_of(const Value& v) const { return to_text(v, g_); }
+  // Work accounting: bulk operations (copies, concatenations, traversals, remaps) cost one step
+  // per element, so the step limit bounds time and memory for every script.
+  void charge(std::uint64_t units);
+  std::string text_of(const Value& v);
+  bool equal(const Value& a, const Value& b);
+  // Copy on write, charged.
+  ArrayObj& own_array(Value& v);
+  MapObj& own_map(Value& v);
+  StrObj& own_string(Value& v);
 
   // Fidget's conversion of a value to a tree: expressions, numbers (constants), arrays (their
   // union) and planes. `what` names the argument in the error message.
@@ -169,6 +177,7 @@ class Interp {
   Flow flow_ = Flow::Normal;
   Value flow_value_;
   std::uint64_t steps_ = 0, max_steps_;
+  std::uint32_t cur_pos_ = 0;  // position of the latest step, for errors found inside helpers
   std::uint64_t max_nodes_;
   int depth_ = 0, call_depth_ = 0;
 

@@ -195,7 +195,7 @@ Value binary_op(Interp& in, BinOp op, const Value& a, const Value& b, std::uint3
       case Kind::Array:
         for (const Value& e : b.as<ArrayObj>().items) {
           if (e.kind() == Kind::Expr) expr_op(in, op, a, e, pos);  // errors, as comparing trees does
-          if (values_equal(a, e)) return Value::boolean(true);
+          if (in.equal(a, e)) return Value::boolean(true);
         }
         return Value::boolean(false);
       case Kind::Map:
@@ -213,18 +213,23 @@ Value binary_op(Interp& in, BinOp op, const Value& a, const Value& b, std::uint3
     }
   }
   if (ka == Kind::Str || kb == Kind::Str) {
-    if (op == BinOp::Add) return make_string(in.text_of(a) + in.text_of(b));
+    if (op == BinOp::Add) {
+      std::string s = in.text_of(a);
+      s += in.text_of(b);
+      return make_string(std::move(s));
+    }
     if (ka == Kind::Str && kb == Kind::Str && is_comparison(op))
       return compare_values(op, a.as<StrObj>().text, b.as<StrObj>().text);
   }
   if (ka == Kind::Vec || kb == Kind::Vec) {
-    if (op == BinOp::Eq || op == BinOp::Ne) return Value::boolean(values_equal(a, b) == (op == BinOp::Eq));
+    if (op == BinOp::Eq || op == BinOp::Ne) return Value::boolean(in.equal(a, b) == (op == BinOp::Eq));
     return vec_op(in, op, a, b, pos);
   }
   if (ka == Kind::Array && kb == Kind::Array && op == BinOp::Add) {
     Value out = a;
-    ArrayObj& arr = mutable_array(out);
+    ArrayObj& arr = in.own_array(out);
     const auto& more = b.as<ArrayObj>().items;
+    in.charge(more.size());
     arr.items.insert(arr.items.end(), more.begin(), more.end());
     arr.depth = std::max(arr.depth, b.as<ArrayObj>().depth);
     return out;
@@ -241,17 +246,18 @@ Value binary_op(Interp& in, BinOp op, const Value& a, const Value& b, std::uint3
     }
   }
   // Equality between any other values (different types are simply unequal, as in Rhai).
-  if (op == BinOp::Eq) return Value::boolean(values_equal(a, b));
-  if (op == BinOp::Ne) return Value::boolean(!values_equal(a, b));
+  if (op == BinOp::Eq) return Value::boolean(in.equal(a, b));
+  if (op == BinOp::Ne) return Value::boolean(!in.equal(a, b));
   not_defined(in, op, a, b, pos);
 }
 
 void compound_assign(Interp& in, BinOp op, Value& target, const Value& v, std::uint32_t pos) {
   if (op == BinOp::Add && target.kind() == Kind::Array) {  // `arr += item` or `arr += [items]`
-    ArrayObj& arr = mutable_array(target);
+    ArrayObj& arr = in.own_array(target);
     if (v.kind() == Kind::Array) {
       const Value keep = v;  // `a += a`
       const auto& more = keep.as<ArrayObj>().items;
+      in.charge(more.size());
       arr.items.insert(arr.items.end(), more.begin(), more.end());
       arr.depth = std::max(arr.depth, keep.as<ArrayObj>().depth);
     } else {
@@ -263,7 +269,7 @@ void compound_assign(Interp& in, BinOp op, Value& target, const Value& v, std::u
   }
   if (op == BinOp::Add && target.kind() == Kind::Str && v.kind() != Kind::Expr) {
     const std::string more = in.text_of(v);
-    mutable_string(target).text += more;
+    in.own_string(target).text += more;
     return;
   }
   target = binary_op(in, op, target, v, pos);
@@ -290,6 +296,7 @@ Value index_value(Interp& in, const Value& base, const Value& key, std::uint32_t
     case Kind::Str: {
       if (key.kind() != Kind::Int) in.fail(pos, std::string("string index must be an integer, not ") + type_name(key));
       const std::string& s = base.as<StrObj>().text;
+      in.charge(s.size() / 16);
       std::vector<std::size_t> starts;
       for (std::size_t i = 0; i < s.size(); ++i)
         if ((static_cast<unsigned char>(s[i]) & 0xC0) != 0x80) starts.push_back(i);

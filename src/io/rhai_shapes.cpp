@@ -121,6 +121,7 @@ bool to_tree(Interp& in, const Value& v, NodeId& out, std::uint32_t pos);
 bool to_tree_list(Interp& in, const Value& v, std::vector<NodeId>& out, std::uint32_t pos) {
   if (v.kind() != Kind::Array) return false;
   out.clear();
+  in.charge(v.as<ArrayObj>().items.size());
   for (const Value& e : v.as<ArrayObj>().items) {
     NodeId t;
     if (!to_tree(in, e, t, pos)) return false;

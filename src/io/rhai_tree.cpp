@@ -33,6 +33,7 @@ NodeId Interp::to_expr(const Value& v, std::uint32_t pos, const std::string& wha
     case Kind::Int:
     case Kind::Float: return constant(v.number());
     case Kind::Array: {  // Fidget: an array of trees is their union
+      charge(v.as<ArrayObj>().items.size());
       std::vector<NodeId> items;
       for (const Value& e : v.as<ArrayObj>().items) items.push_back(to_expr(e, pos, what));
       return reduce(Op::Min, items);
@@ -56,6 +57,7 @@ NodeId Interp::to_expr(const Value& v, std::uint32_t pos, const std::string& wha
 }
 
 NodeId Interp::reduce(Op op, std::span<const NodeId> items) {
+  charge(items.size() / 2);  // over the recursion: n log n / 2 in all, an upper bound of the work
   if (items.empty())
     return constant(op == Op::Min ? std::numeric_limits<double>::infinity() : -std::numeric_limits<double>::infinity());
   if (items.size() == 1) return items[0];
@@ -80,6 +82,7 @@ NodeId Interp::remap(NodeId e, NodeId x, NodeId y, NodeId z) {
     if (ar > 0 && map.emplace(nd.a, kNoNode).second) stack.push_back(nd.a);
     if (ar > 1 && map.emplace(nd.b, kNoNode).second) stack.push_back(nd.b);
   }
+  charge(order.size());
   std::sort(order.begin(), order.end());
   for (NodeId n : order) {
     const Node nd = g_.node(n);

@@ -55,7 +55,9 @@ std::string number_text(double d) {
 }
 }  // namespace
 
-std::string to_text(const Value& v, const Graph& g) {
+std::string to_text(const Value& v, const Graph& g, std::uint64_t& budget) {
+  if (budget == 0) return "";
+  --budget;
   switch (v.kind()) {
     case Kind::Unit: return "";
     case Kind::Bool: return v.as_bool() ? "true" : "false";
@@ -75,7 +77,8 @@ std::string to_text(const Value& v, const Graph& g) {
       for (const Value& e : v.as<ArrayObj>().items) {
         if (!first) s += ", ";
         first = false;
-        s += e.kind() == Kind::Str ? "\"" + e.as<StrObj>().text + "\"" : to_text(e, g);
+        s += e.kind() == Kind::Str ? "\"" + e.as<StrObj>().text + "\"" : to_text(e, g, budget);
+        if (budget == 0) break;
       }
       return s + "]";
     }
@@ -85,7 +88,8 @@ std::string to_text(const Value& v, const Graph& g) {
       for (const auto& [k, e] : v.as<MapObj>().items) {
         s += first ? "" : ", ";
         first = false;
-        s += k + ": " + (e.kind() == Kind::Str ? "\"" + e.as<StrObj>().text + "\"" : to_text(e, g));
+        s += k + ": " + (e.kind() == Kind::Str ? "\"" + e.as<StrObj>().text + "\"" : to_text(e, g, budget));
+        if (budget == 0) break;
       }
       return s + "}";
     }
@@ -112,7 +116,9 @@ std::string to_text(const Value& v, const Graph& g) {
   return "";
 }
 
-bool values_equal(const Value& a, const Value& b) {
+bool values_equal(const Value& a, const Value& b, std::uint64_t& budget) {
+  if (budget == 0) return false;
+  --budget;
   if (a.is_number() && b.is_number()) {
     if (a.kind() == Kind::Int && b.kind() == Kind::Int) return a.as_int() == b.as_int();
     return a.number() == b.number();
@@ -128,7 +134,7 @@ bool values_equal(const Value& a, const Value& b) {
       const auto& y = b.as<ArrayObj>().items;
       if (x.size() != y.size()) return false;
       for (std::size_t i = 0; i < x.size(); ++i)
-        if (!values_equal(x[i], y[i])) return false;
+        if (!values_equal(x[i], y[i], budget)) return false;
       return true;
     }
     case Kind::Map: {
@@ -136,7 +142,7 @@ bool values_equal(const Value& a, const Value& b) {
       const auto& y = b.as<MapObj>().items;
       if (x.size() != y.size()) return false;
       for (auto i = x.begin(), j = y.begin(); i != x.end(); ++i, ++j)
-        if (i->first != j->first || !values_equal(i->second, j->second)) return false;
+        if (i->first != j->first || !values_equal(i->second, j->second, budget)) return false;
       return true;
     }
     case Kind::Range: {

@@ -137,11 +137,13 @@ std::uint32_t value_depth(const Value& v);
 // Rhai's type names (`type_of`); expressions are Fidget's "Tree".
 const char* type_name(const Value& v);
 // Rhai-style text of a value, for `to_string`, `print` and string concatenation. Expressions
-// print as Fidget prints trees: "x", "y", "z" or "Tree(..)".
-std::string to_text(const Value& v, const Graph& g);
+// print as Fidget prints trees: "x", "y", "z" or "Tree(..)". Every element visited costs one unit
+// of `budget`; when it runs out the text is cut short and `budget` is 0 (arrays that share their
+// parts can be exponentially larger than the memory they take).
+std::string to_text(const Value& v, const Graph& g, std::uint64_t& budget);
 // Structural equality of plain data (numbers compare across Int and Float). Expressions compare
-// by node; callers reject them first, as Fidget does.
-bool values_equal(const Value& a, const Value& b);
+// by node; callers reject them first, as Fidget does. Costs `budget` as to_text does.
+bool values_equal(const Value& a, const Value& b, std::uint64_t& budget);
 
 // Makes the value's heap object unique (copy on write) and returns it.
 ArrayObj& mutable_array(Value& v);

@@ -82,7 +82,17 @@ TEST(RhaiErrors, RunawayScriptsStopAtTheStepLimit) {
   // The default is far above what straight-line models need: see RhaiErrors.LongScripts.
   o.max_nodes = 5000;
   o.max_steps = 0;
-  EXPECT_TRUE(fails_at("let e = x;\nfor i in 0..100000 { e = e * 2 + i; }", 2, 26, "expression nodes", o));
+  EXPECT_TRUE(fails_at("let e = x;\nfor i in 0..100000 { e = e * 2 + i; }", 2, 1, "expression nodes", o));
+  // Bulk work costs steps too, so the limit bounds time and memory: doubling arrays and strings,
+  // and traversing arrays whose parts are shared (2^100 elements in a few hundred bytes).
+  o = RhaiOptions{};
+  o.max_steps = 200000;
+  EXPECT_TRUE(fails_at("let a = [1];\nloop { a += a; }", 2, 13, "steps", o));
+  EXPECT_TRUE(fails_at("let s = \"ab\";\nloop { s += s; }", 2, 13, "steps", o));
+  EXPECT_TRUE(fails_at("let a = [1];\nfor i in 0..100 { a = [a, a]; }\nlet b = a;\nb == a", 4, 6, "steps", o));
+  EXPECT_TRUE(fails_at("let a = [1];\nfor i in 0..100 { a = [a, a]; }\nto_string(a)", 3, 11, "steps", o));
+  EXPECT_TRUE(fails_at("let a = [x];\nfor i in 0..100 { a = [a, a]; }\na + x", 3, 5, "steps", o));
+  EXPECT_TRUE(fails_at("let e = x + 1;\nfor i in 0..100 { e = e.remap(x * 2 + e, y, z); }\ne", 2, 45, "steps", o));
 }
 
 TEST(RhaiErrors, NestingLimitsGiveErrorsNotCrashes) {
