@@ -14,9 +14,11 @@ bool ends_with(const std::string& s, std::string_view suffix) {
   return s.size() >= suffix.size() && std::string_view(s).substr(s.size() - suffix.size()) == suffix;
 }
 
-// A `.vm` file's first instruction line is `<id> <opcode> ...` with a known opcode (`#` starts
-// a comment); a Rhai script's first line never is (its comments start with `//`).
+// A `.vm` file's first instruction line is `<id> <opcode> [args]`: a known opcode and as many
+// arguments as it takes (`#` starts a comment). A Rhai script's first line never is: its
+// comments start with `//`, and a statement such as `let square = ...` has `=` or parentheses.
 bool looks_like_vm(std::string_view text) {
+  auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; };
   std::size_t pos = 0;
   while (pos < text.size()) {
     std::size_t eol = text.find('\n', pos);
@@ -24,15 +26,20 @@ bool looks_like_vm(std::string_view text) {
     std::string_view line = text.substr(pos, eol - pos);
     pos = eol + 1;
     if (std::size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
-    auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; };
-    std::size_t i = 0;
-    while (i < line.size() && is_space(line[i])) ++i;
-    if (i == line.size()) continue;  // blank or comment: look at the next line
-    while (i < line.size() && !is_space(line[i])) ++i;  // the id
-    while (i < line.size() && is_space(line[i])) ++i;
-    std::size_t j = i;
-    while (j < line.size() && !is_space(line[j])) ++j;
-    return op_from_name(line.substr(i, j - i)).has_value();
+    std::string_view tok[5];
+    int n = 0;
+    for (std::size_t i = 0; i < line.size() && n < 5;) {
+      while (i < line.size() && is_space(line[i])) ++i;
+      std::size_t j = i;
+      while (j < line.size() && !is_space(line[j])) ++j;
+      if (j > i) tok[n++] = line.substr(i, j - i);
+      i = j;
+    }
+    if (n == 0) continue;  // blank or comment: look at the next line
+    if (n < 2 || line.find_first_of("=(){};[]\"") != std::string_view::npos) return false;
+    const auto op = op_from_name(tok[1]);
+    if (!op) return false;
+    return n - 2 == (*op == Op::Const ? 1 : op_arity(*op));
   }
   return false;
 }

@@ -24,7 +24,8 @@ namespace frep::rhai {
 // Script functions may call each other this deep (Rhai's default, kept by Fidget, is 64).
 inline constexpr int kMaxCallDepth = 200;
 // Evaluation may recurse this deep in all (nested calls times the nesting inside them); beyond
-// it the script stops with an error instead of exhausting the native stack.
+// it the script stops with an error instead of exhausting the native stack. At the limit the
+// reader uses less than 1 MB of stack in a release build (under 4 MB with AddressSanitizer).
 inline constexpr int kMaxEvalDepth = 3000;
 
 class Interp;

@@ -142,7 +142,7 @@ TEST(RhaiModels, LoadExpressionPicksTheReaderByExtensionAndContent) {
     std::ofstream(dir / name) << text;
     return (dir / name).string();
   };
-  const std::string script = "// a circle\nlet r = 0.5;\nsqrt(x * x + y * y) - r\n";
+  const std::string script = "let sqrt = 0.5;\nsqrt(x * x + y * y) - sqrt\n";  // `let sqrt` is not `<id> <opcode>`
   const std::string vm = "# a circle\n_0 var-x\n_1 var-y\n_2 square _0\n_3 square _1\n_4 add _2 _3\n_5 sqrt _4\n"
                          "_6 const 0.5\n_7 sub _5 _6\n";
   for (const std::string& name : {std::string("c.rhai"), std::string("c.txt"), std::string("c")}) {
