@@ -52,6 +52,9 @@ TEST(RhaiLanguage, FunctionsRecursionAndGlobals) {
   // Overloading by arity, and calls before the definition (Rhai hoists functions).
   EXPECT_TRUE(script_matches("let r = g(x) + g(x, y);\nfn g(a) { a }\nfn g(a, b) { a * b }\nr",
                              [](Graph& g) { return g.x() + g.x() * g.y(); }));
+  // A function defined after the call, found while another function's body runs.
+  EXPECT_TRUE(script_matches("fn a(e) { b(e) * 2 }\nlet r = a(x);\nfn b(e) { e + 1 }\nr",
+                             [](Graph& g) { return (g.x() + 1.0f) * 2.0f; }));
   // Functions read global variables (frep extension) ...
   EXPECT_TRUE(script_matches("let k = 3; fn add_k(e) { e + k } add_k(z)", [](Graph& g) { return g.z() + 3.0f; }));
   // ... but x, y, z inside a function are the axes, as in Fidget, even if the script rebinds them.
