@@ -70,7 +70,10 @@ Interp::Interp(std::string_view text, const std::string& name, const RhaiOptions
   special("x", 1);
   special("y", 2);
   special("z", 3);
-  for (std::size_t i = 0; i < std::size(kConstants); ++i) special(kConstants[i].name, static_cast<int>(4 + i));
+  for (std::size_t i = 0; i < std::size(kConstants); ++i) {
+    special(kConstants[i].name, static_cast<int>(4 + i));
+    constant_values_.push_back(Value::real(kConstants[i].value));
+  }
   axes_[0] = g_.var_x();
   axes_[1] = g_.var_y();
   axes_[2] = g_.var_z();
@@ -229,11 +232,7 @@ const Value* Interp::lookup(std::uint32_t sym, std::uint32_t pos) {
     if (b != kNone) return &bindings_[b].v;
   }
   if (special >= 1 && special <= 3) return &axis_values_[special - 1];
-  if (special >= 4) {
-    static thread_local Value constant;
-    constant = Value::real(kConstants[special - 4].value);
-    return &constant;
-  }
+  if (special >= 4) return &constant_values_[static_cast<std::size_t>(special - 4)];
   const std::string_view nm = symbols_.name(sym);
   if (find_fn(sym, 0) != kNone || builtin(sym))
     fail(pos, "`" + std::string(nm) + "` is a function, not a variable; call it with `" + std::string(nm) + "(...)`");

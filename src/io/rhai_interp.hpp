@@ -184,6 +184,7 @@ class Interp {
 
   NodeId axes_[3];
   Value axis_values_[3];
+  std::vector<Value> constant_values_;  // Fidget's math constants, by their index
   std::vector<NodeId> drawn_;
   std::unordered_map<NodeId, std::pair<NodeId, Affine>> affine_of_;  // result -> (source, map)
 };

@@ -146,9 +146,8 @@ Parser::Item Parser::next(std::uint32_t* node, std::vector<FnDef>& fns) {
     accept(Tok::Semicolon);
     return Item::Function;
   }
-  const std::uint32_t pos = tok_.pos;
   *node = statement();
-  end_of_statement(pos);
+  end_of_statement();
   return Item::Statement;
 }
 
@@ -174,7 +173,7 @@ FnDef Parser::function() {
   return f;
 }
 
-void Parser::end_of_statement(std::uint32_t) {
+void Parser::end_of_statement() {
   if (accept(Tok::Semicolon)) return;
   if (last_ == Tok::RBrace || tok_.kind == Tok::RBrace || tok_.kind == Tok::End) return;
   expected("`;` to end the statement");
@@ -231,10 +230,9 @@ std::uint32_t Parser::block() {
     }
     if (tok_.kind == Tok::RBrace) break;
     if (tok_.kind == Tok::End) fail(pos, "unterminated block: `{` has no matching `}`");
-    const std::uint32_t spos = tok_.pos;
     scratch_.push_back(statement());
     ++count;
-    end_of_statement(spos);
+    end_of_statement();
   }
   advance();  // }
   const std::uint32_t list = commit_list(count);

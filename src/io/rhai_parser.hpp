@@ -35,7 +35,6 @@ class Parser {
   };
   State save() const { return {lexer_.offset(), tok_, la_, has_la_, last_}; }
   void restore(const State& s);
-  std::uint32_t position() const { return tok_.pos; }
 
  private:
   [[noreturn]] void fail(std::uint32_t pos, std::string msg) const;
@@ -51,7 +50,7 @@ class Parser {
   std::uint32_t commit_list(std::size_t count);
 
   std::uint32_t statement();
-  void end_of_statement(std::uint32_t stmt_pos);
+  void end_of_statement();
   std::uint32_t block();
   std::uint32_t expression();
   std::uint32_t binary(int min_prec);
