@@ -1,0 +1,54 @@
+// Export an expression as GLSL: a function `float sdf(vec3 p)`, and a ready-to-paste Shadertoy
+// fragment shader that ray-marches it.
+#pragma once
+
+#include <ostream>
+#include <string>
+
+#include "frep/expr/graph.hpp"
+
+namespace frep {
+
+struct GlslOptions {
+  // Name of the generated function `float NAME(vec3 p)`; a GLSL identifier other than p.
+  std::string function_name = "sdf";
+  // Where the expression came from, quoted in the opening comment (e.g. the input file name).
+  std::string source;
+  // Write the frep_* helper functions the expression needs. Turn off to put several exported
+  // functions into one shader: write the helpers once with write_glsl_helpers.
+  bool helpers = true;
+};
+
+// Writes every frep_* helper function (frep's semantics of min, max, compare, mod, round, and,
+// or, not and square in GLSL).
+void write_glsl_helpers(std::ostream& out);
+
+// Writes helper functions (only those the expression needs, prefixed frep_) and the function.
+// Shared subexpressions become locals. Needs GLSL 3.30 or GLSL ES 3.00 and later (isnan, trunc,
+// uintBitsToFloat); no #version line, so it can be pasted into any such shader. On an IEEE-754
+// implementation the result equals frep's f32 evaluator except `mod`, which GLSL cannot do
+// exactly (see docs/export.md); GPUs may flush denormals, skip NaN and compute sin, exp, ... with
+// less precision. Iterative: fine for million-node inputs, but GPU compilers are not.
+// Throws InputError if the function name is not a valid identifier.
+void write_glsl(std::ostream& out, const Graph& g, NodeId root, const GlslOptions& opt = {});
+
+struct ShadertoyOptions {
+  GlslOptions glsl;
+  // The shape is assumed to lie in the cube [-radius, radius]^3: rays are marched inside it and
+  // the camera frames it. Fidget's models live in [-1, 1]^3.
+  float radius = 1.0f;
+  // Sphere tracing advances by step_scale * f: below 1 so that fields that are bounds rather
+  // than exact distances (or distances that overshoot after blending) are not stepped through.
+  float step_scale = 0.8f;
+  int max_steps = 256;
+  // Expressions without z are extruded into a slab |z| <= slab * radius, so 2D shapes show up.
+  float slab = 0.1f;
+};
+
+// Writes a complete Shadertoy "Image" shader (mainImage, using iResolution, iTime, iMouse and
+// iFrame): the function above, sphere tracing with a step scale, normals by central differences
+// and a key light, fill light and sky ambient. Drag the mouse to orbit. Throws InputError on bad
+// options.
+void write_shadertoy(std::ostream& out, const Graph& g, NodeId root, const ShadertoyOptions& opt = {});
+
+}  // namespace frep
