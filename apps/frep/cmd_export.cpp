@@ -4,6 +4,7 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 
 #include "commands.hpp"
 #include "frep/error.hpp"
@@ -70,9 +71,8 @@ void register_export(CLI::App& app) {
     }
     if (a->fragment && format != "latex") throw CLI::ValidationError("--fragment", "only applies to --format latex");
     const auto t0 = std::chrono::steady_clock::now();
-    const Model m = load_expression(a->file);
-    const std::string source = std::filesystem::path(a->file).filename().string();
-    auto produce = [&](std::ostream& out) {
+    // Writes `m` in the chosen format; options are checked by the library.
+    auto write = [&](std::ostream& out, const Model& m, const std::string& source) {
       if (format == "c") {
         CExportOptions opt;
         opt.source = source;
@@ -95,6 +95,21 @@ void register_export(CLI::App& app) {
         write_latex(out, *m.graph, m.root, opt);
       }
     };
+    {
+      // Option errors (a bad --name) are command-line errors: find them on a trivial expression
+      // before reading the input.
+      Model probe;
+      probe.root = probe.graph->var_x();
+      std::ostringstream sink;
+      try {
+        write(sink, probe, "");
+      } catch (const InputError& e) {
+        throw CLI::ValidationError(e.detail());
+      }
+    }
+    const Model m = load_expression(a->file);
+    const std::string source = std::filesystem::path(a->file).filename().string();
+    auto produce = [&](std::ostream& out) { write(out, m, source); };
     if (a->output == "-") {
       produce(std::cout);
       std::cout.flush();
