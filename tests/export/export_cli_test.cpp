@@ -100,6 +100,11 @@ TEST_F(ExportCli, OptionsReachTheExporters) {
   r = run(shell_quote(model_) + " -f shadertoy --radius 2 --step-scale 0.5 --max-steps 99 -o -");
   for (const char* want : {"#define FREP_RADIUS 2.0", "#define FREP_STEP_SCALE 0.5", "#define FREP_MAX_STEPS 99"})
     EXPECT_NE(r.out.find(want), std::string::npos) << want;
+  const char* checked = "return (isnan(a) || isnan(b)) ? a + b : (a > b ? a : b);";
+  EXPECT_EQ(r.out.find(checked), std::string::npos) << "shadertoy: GLSL's max by default";
+  EXPECT_NE(run(shell_quote(model_) + " -f shadertoy --nan-checks -o -").out.find(checked), std::string::npos);
+  EXPECT_NE(run(shell_quote(model_) + " -f glsl -o -").out.find(checked), std::string::npos) << "glsl: exact by default";
+  EXPECT_EQ(run(shell_quote(model_) + " -f glsl --no-nan-checks -o -").out.find(checked), std::string::npos);
 }
 
 TEST_F(ExportCli, ErrorsHaveTheDocumentedExitCodesAndLeaveNoFile) {
@@ -116,6 +121,7 @@ TEST_F(ExportCli, ErrorsHaveTheDocumentedExitCodesAndLeaveNoFile) {
       {shell_quote(model_) + " -f c --name 'my sdf' -o " + shell_quote(out), 2, "not a C identifier"},
       {shell_quote(model_) + " -f glsl --name gl_sdf -o " + shell_quote(out), 2, "GLSL"},
       {shell_quote(model_) + " -f c --fragment -o " + shell_quote(out), 2, "--fragment"},
+      {shell_quote(model_) + " -f latex --no-nan-checks -o " + shell_quote(out), 2, "--nan-checks"},
       {shell_quote(model_) + " -f shadertoy --step-scale 2 -o " + shell_quote(out), 2, "step-scale"},
       {shell_quote(model_) + " -f c -o " + shell_quote(dir_.path("no/such/dir/x.c")), 1, "no/such/dir"},
   };

@@ -267,13 +267,26 @@ TEST(GlslExport, ShadertoyExtrudes2DShapesAndChecksOptions) {
     EXPECT_NE(s.find("#define FREP_RADIUS 2.0"), std::string::npos);
     EXPECT_NE(s.find("#define FREP_STEP_SCALE 0.5"), std::string::npos);
   }
-  for (auto bad : {std::make_pair(0.0f, 0.8f), std::make_pair(-1.0f, 0.8f), std::make_pair(1.0f, 0.0f),
+  for (auto bad : {std::make_pair(0.0f, 0.8f), std::make_pair(-1.0f, 0.8f), std::make_pair(1.0f, -0.5f),
                    std::make_pair(1.0f, 1.5f), std::make_pair(std::numeric_limits<float>::infinity(), 0.8f)}) {
     ShadertoyOptions o;
     o.radius = bad.first;
     o.step_scale = bad.second;
     std::ostringstream s;
     EXPECT_THROW(write_shadertoy(s, g, x.id(), o), InputError) << bad.first << " " << bad.second;
+  }
+}
+
+// The automatic step follows the field's gradient: 0.8 / |grad f|, at most 1.
+TEST(GlslExport, ShadertoyStepScaleFollowsTheGradient) {
+  Graph g;
+  auto x = g.x(), y = g.y(), z = g.z();
+  auto ball = sqrt(square(x) + square(y) + square(z)) - 0.5f;
+  for (auto [scale, want] : {std::pair{1.0f, "0.8"}, {10.0f, "0.08"}, {0.5f, "1.0"}}) {
+    std::ostringstream out;
+    write_shadertoy(out, g, (ball * scale).id());
+    EXPECT_NE(out.str().find(std::string("#define FREP_STEP_SCALE ") + want), std::string::npos)
+        << scale << ":\n" << out.str().substr(0, 800);
   }
 }
 
