@@ -221,7 +221,9 @@ TEST(GlslExport, SharedModelsAreValidAndExact) {
       expect_valid_glsl(dir, "function", fragment_shader("#version 300 es", fn.str(), {"sdf"}));
       expect_valid_glsl(dir, "shadertoy", shadertoy_wrapper(toy.str()));
     }
-    if (have_program("c++")) {
+    // Prospero's values are checked through C (c_export_test.cpp, same emitter); compiling its
+    // 7576-line function as C++ once more would add seconds and no coverage.
+    if (have_program("c++") && std::string(name) != "prospero.vm") {
       const std::vector<float> xyz = model_points(10, 300);
       EXPECT_EQ(count_mismatches(*m.graph, {m.root}, xyz, run_as_cpp(dir, fn.str(), {"sdf"}, xyz), name), 0);
     }
