@@ -274,8 +274,9 @@ void expect_known_syntax(const std::string& doc) {
       std::size_t j = i + 1;
       while (j < doc.size() && std::isalpha(static_cast<unsigned char>(doc[j]))) ++j;
       const std::string name = j > i + 1 ? doc.substr(i + 1, j - i - 1) : doc.substr(i + 1, 1);
-      if (name != "\\" && name != "|" && name != "(" && name != ")" && name != "[" && name != "]")
+      if (name != "\\" && name != "|" && name != "(" && name != ")" && name != "[" && name != "]") {
         EXPECT_TRUE(known.count(name)) << "unknown command \\" << name;
+      }
       i = j > i + 1 ? j - 1 : i + 1;
     }
   }

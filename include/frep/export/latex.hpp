@@ -18,8 +18,8 @@ struct LatexOptions {
   int digits = 0;
   // Rough width of a display line, in characters of mathematics: sums, products, minima and
   // maxima wider than this wrap at the top level of a definition, and subexpressions that cannot
-  // wrap are given their own definition when they would not fit. 72 suits A4 with 2 cm margins.
-  int line_width = 72;
+  // wrap are given their own definition when they would not fit. 80 suits A4 with 2 cm margins.
+  int line_width = 80;
   // Where the expression came from, shown in the title (e.g. the input file name).
   std::string source;
 };
