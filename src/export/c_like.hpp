@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "frep/expr/graph.hpp"
+#include "frep/expr/opcode.hpp"
 
 namespace frep::export_detail {
 
@@ -21,7 +22,7 @@ struct CLikeDialect {
   std::string (*literal)(float);         // a float literal (may start with '-')
   // The function called for each call-style opcode (abs, sqrt, min, ...), and for Square when
   // its argument is not a plain name. Add/Sub/Mul/Div/Neg/Recip are written with operators.
-  std::array<std::string_view, 32> call;
+  std::array<std::string_view, kOpCount> call;
 };
 
 // Bit i set when opcode i occurs in `order` (for emitting only the helpers that are needed).

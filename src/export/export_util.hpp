@@ -33,6 +33,17 @@ inline std::vector<std::uint32_t> use_counts(const Graph& g, const std::vector<N
   return uses;
 }
 
+// Text for a one-line comment in any of the output languages: control characters (a newline
+// would end a // or % comment) become spaces, and "*/" (which would end a C comment) "* /".
+inline std::string comment_text(std::string_view s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '/' && !out.empty() && out.back() == '*') out += ' ';
+    out += static_cast<unsigned char>(c) < 0x20 ? ' ' : c;
+  }
+  return out;
+}
+
 // [A-Za-z_][A-Za-z0-9_]*: a valid name in C and GLSL (keywords are the caller's problem).
 inline bool is_identifier(std::string_view s) {
   if (s.empty()) return false;

@@ -152,6 +152,17 @@ TEST(CExport, BadFunctionNamesAreInputErrors) {
   EXPECT_NE(export_c(g, x, "shape_2").find("float shape_2(float x, float y, float z)"), std::string::npos);
 }
 
+TEST(CExport, SourceNamesCannotBreakTheComment) {
+  Graph g;
+  CExportOptions opt;
+  opt.source = "evil*/\nint x;/*.vm";
+  std::ostringstream out;
+  write_c(out, g, g.var_x(), opt);
+  const std::string first = out.str().substr(0, out.str().find('\n'));
+  EXPECT_NE(first.find("evil* / int x;/*.vm"), std::string::npos) << first;
+  EXPECT_EQ(out.str().find("*/\nint x;"), std::string::npos);
+}
+
 TEST(CExport, ConstantAndVariableRoots) {
   Graph g;
   const std::string c = export_c(g, g.constant(-2.5f));
