@@ -123,19 +123,24 @@ class LatexWriter {
 
   bool is_leaf(NodeId id) const { return op_arity(g_.node(id).op) == 0; }
 
-  // or(and(c, a), and(not(c), b)) whose two `and`s are used nowhere else.
+  // A select, as if_nonzero_else builds it (and(c, a) + and(not(c), b), the add's arguments in
+  // either order) or in the older or(and(c, a), and(not(c), b)) form, whose two `and`s are used
+  // nowhere else.
   bool select_parts(NodeId id, NodeId& c, NodeId& a, NodeId& b) const {
     const Node& n = g_.node(id);
-    if (n.op != Op::Or) return false;
-    const Node& l = g_.node(n.a);
-    const Node& r = g_.node(n.b);
-    if (l.op != Op::And || r.op != Op::And || uses_[n.a] != 1 || uses_[n.b] != 1) return false;
-    const Node& nc = g_.node(r.a);
-    if (nc.op != Op::Not || nc.a != l.a) return false;
-    c = l.a;
-    a = l.b;
-    b = r.b;
-    return true;
+    if (n.op != Op::Or && n.op != Op::Add) return false;
+    auto match = [&](NodeId first, NodeId second) {
+      const Node& l = g_.node(first);
+      const Node& r = g_.node(second);
+      if (l.op != Op::And || r.op != Op::And || uses_[first] != 1 || uses_[second] != 1) return false;
+      const Node& nc = g_.node(r.a);
+      if (nc.op != Op::Not || nc.a != l.a) return false;
+      c = l.a;
+      a = l.b;
+      b = r.b;
+      return true;
+    };
+    return match(n.a, n.b) || (n.op == Op::Add && match(n.b, n.a));
   }
 
   void plan() {
