@@ -150,15 +150,29 @@ Validation::Validation(const TriMesh& raw, const ValidationOptions& opt)
   flat_.assign(m_.triangles.size(), 0);
 }
 
-// Unused vertices, and duplicates merged by welding (indexed formats only: STL repeats every
-// corner by design).
+// Unused vertices, and duplicates: vertices with a lower-numbered vertex at the same position
+// (indexed formats only: STL repeats every corner by design). Used vertices are grouped by the
+// weld (exact or within the tolerance); an unused vertex joins the group of any vertex at
+// exactly its position.
 void Validation::check_vertices() {
-  for (std::uint32_t v = 0; v < raw_.vertices.size(); ++v) {
+  const std::size_t nv = raw_.vertices.size();
+  bool any_unused = false;
+  for (std::uint32_t v = 0; v < nv; ++v) any_unused = any_unused || w_.welded_of_original[v] == kNoVertex;
+  std::optional<UnionFind> same;  // only needed when unused vertices can be duplicates
+  if (raw_.indexed && any_unused) {
+    same.emplace(first_at_same_position(raw_.vertices));
+    for (std::uint32_t v = 0; v < nv; ++v)
+      if (w_.welded_of_original[v] != kNoVertex) same->unite(v, w_.original_of_welded[w_.welded_of_original[v]]);
+  }
+  for (std::uint32_t v = 0; v < nv; ++v) {
     DefectLocation l;
     l.vertex = v;
     l.point = raw_.vertices[v];
-    if (w_.welded_of_original[v] == kNoVertex) add(DefectKind::UnusedVertices, l);
-    else if (raw_.indexed && w_.original_of_welded[w_.welded_of_original[v]] != v) add(DefectKind::DuplicateVertices, l);
+    const bool unused = w_.welded_of_original[v] == kNoVertex;
+    if (unused) add(DefectKind::UnusedVertices, l);
+    const bool duplicate =
+        same ? same->find(v) != v : !unused && w_.original_of_welded[w_.welded_of_original[v]] != v;
+    if (raw_.indexed && duplicate) add(DefectKind::DuplicateVertices, l);
   }
 }
 
