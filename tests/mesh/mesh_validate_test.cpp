@@ -505,6 +505,10 @@ TEST(Validate, ShellOrientationAndNesting) {
   EXPECT_EQ(count(r, DefectKind::ShellOrientation), 1u) << r.summary();
   const Vec3 where = r.defect(DefectKind::ShellOrientation).examples.at(0).point;
   EXPECT_TRUE(where.z >= 5 && where.z <= 6 && where.x >= 5.2 && where.x <= 5.8) << where.x << " " << where.z;
+  // The same without the intersection test, whose hierarchy the winding number otherwise reuses.
+  ValidationOptions fast;
+  fast.self_intersections = false;
+  EXPECT_EQ(count(validate_mesh(combined(parts), fast), DefectKind::ShellOrientation), 1u);
 }
 
 // Meshes without volume are not solids: only collapsed triangles (also after a large weld
