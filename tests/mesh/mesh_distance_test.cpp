@@ -171,10 +171,11 @@ TEST(MeshDistance, BatchIsIndependentOfThreads) {
   EXPECT_EQ(signed_distance(s, x, y, z), a);
 }
 
-// A real mesh against brute force: every triangle in double precision with this file's own
-// closest-point code, and the sign from this file's own exact winding number (every triangle's
-// solid angle). Uniform points in the box, and points truly near the surface: on faces, edges
-// and vertices, exactly (distance only: no side) or offset by 1e-3 down to 1e-12 of the diagonal.
+// A real mesh (7k triangles, 1600 points) against brute force: every triangle in double
+// precision with this file's own closest-point code, and the sign from this file's own exact
+// winding number (every triangle's solid angle). Uniform points in the box, and points truly
+// near the surface: on faces, edges and vertices, exactly (distance only: no side) or offset by
+// 1e-3 down to 1e-12 of the diagonal.
 TEST(MeshDistance, MatchesBruteForceOnARealMesh) {
   FREP_REQUIRE_SHARED_MESHES();
   const TriMesh m = read_mesh(test::shared_mesh_dir() + "/bunny_closed_libigl.off");
@@ -188,7 +189,7 @@ TEST(MeshDistance, MatchesBruteForceOnARealMesh) {
   std::uniform_int_distribution<std::size_t> pick(0, m.num_triangles() - 1);
   const double offsets[] = {0, 1e-12, -1e-12, 1e-9, -1e-9, 1e-6, -1e-6, 1e-3, -1e-3};
   int signed_checked = 0, inside = 0;
-  for (int i = 0; i < 2000; ++i) {
+  for (int i = 0; i < 1600; ++i) {
     Vec3 p;
     const std::size_t t = pick(rng);
     const Vec3 a = m.corner(t, 0), b = m.corner(t, 1), c = m.corner(t, 2);
@@ -229,8 +230,8 @@ TEST(MeshDistance, MatchesBruteForceOnARealMesh) {
     ++signed_checked;
     inside += in;
   }
-  EXPECT_GT(signed_checked, 1800);
-  EXPECT_GT(inside, 400);
+  EXPECT_GT(signed_checked, 1400);
+  EXPECT_GT(inside, 300);
 
 }
 
