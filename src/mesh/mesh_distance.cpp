@@ -30,7 +30,6 @@ struct MeshDistance::Data {
   std::vector<std::array<std::uint32_t, 3>> tri_edges;  // per mesh triangle: edge k's id, or kNone
   std::vector<Vec3> vertex_normal;            // per welded vertex
   std::vector<Triangle> welded;               // per mesh triangle, welded vertex indices
-  MeshDistanceOptions options;
 };
 
 namespace {
@@ -258,7 +257,6 @@ MeshDistance::MeshDistance(const TriMesh& m, const MeshTopology& topo, const Mes
   FREP_ASSERT(topo.num_triangles() == m.triangles.size() && topo.num_vertices() == m.vertices.size(),
               "topology of another mesh");
   Data& d = *d_;
-  d.options = options;
   const std::size_t nt = m.triangles.size();
   d.welded = m.triangles;
   std::optional<TriangleBvh> own;
