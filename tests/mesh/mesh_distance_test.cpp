@@ -17,7 +17,7 @@ double brute_distance(const TriMesh& m, const Vec3& p) {
   double best = INFINITY;
   auto seg = [&](Vec3 a, Vec3 b) {
     const Vec3 ab = b - a;
-    double t = dot(p - a, ab) / dot(ab, ab);
+    double t = dot(ab, ab) > 0 ? dot(p - a, ab) / dot(ab, ab) : 0;  // a point: its distance
     t = std::clamp(t, 0.0, 1.0);
     return length(p - (a + ab * t));
   };
@@ -60,6 +60,42 @@ TEST(MeshDistance, MatchesBruteForceOnSmallMeshes) {
       const ClosestPoint c = md.closest_point(p);
       EXPECT_NEAR(c.distance, brute_distance(m, p), 1e-12);
       EXPECT_NEAR(length(c.point - p), c.distance, 1e-12);
+    }
+  }
+}
+
+// Triangles with two or three corners at one point (a capsule's poles, shared mesh
+// capsule_collapsed_poles.obj) or collinear corners: finite distances equal to brute force. Near
+// such a pole the closest-point region test used to divide 0 by 0 and answer NaN.
+TEST(MeshDistance, DegenerateTrianglesGiveFiniteDistances) {
+  std::vector<TriMesh> meshes(3);
+  meshes[0].vertices = {{0, 0, 0}, {0, 0, 0}, {1, 0, 0}};  // two corners at one point (distinct indices)
+  meshes[1].vertices = {{0, 0, 0}, {2, 0, 0}, {1, 0, 0}};  // collinear
+  meshes[2].vertices = {{0.5, 0.5, 0.5}, {0.5, 0.5, 0.5}, {0.5, 0.5, 0.5}};  // a point
+  for (TriMesh& m : meshes) m.add_triangle(0, 1, 2);
+  meshes[0].add_triangle(2, 0, 1), meshes[0].add_triangle(1, 2, 0);  // every corner order
+  std::vector<std::pair<TriMesh, std::vector<Vec3>>> cases;
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-2, 2);
+  for (const TriMesh& m : meshes) {
+    std::vector<Vec3> pts;
+    for (int i = 0; i < 300; ++i) pts.push_back({u(rng), u(rng), u(rng)});
+    cases.push_back({m, pts});
+  }
+  if (test::have_shared_meshes()) {
+    const TriMesh capsule = read_mesh(test::shared_mesh_dir() + "/capsule_collapsed_poles.obj");
+    std::vector<Vec3> pts;
+    for (int i = 0; i < 300; ++i) pts.push_back(Vec3{0, 0, i % 2 ? 1.5 : -1.5} + Vec3{u(rng), u(rng), u(rng)} * 0.05);
+    cases.push_back({capsule, pts});
+  }
+  for (const auto& [m, pts] : cases) {
+    const MeshDistance md(m);
+    for (const Vec3& p : pts) {
+      const ClosestPoint c = md.closest_point(p);
+      ASSERT_TRUE(std::isfinite(c.distance)) << p.x << " " << p.y << " " << p.z;
+      EXPECT_NEAR(c.distance, brute_distance(m, p), 1e-12);
+      EXPECT_NEAR(length(c.point - p), c.distance, 1e-12);
+      EXPECT_TRUE(std::isfinite(md.signed_distance(p, SignMethod::Pseudonormal)));
     }
   }
 }
