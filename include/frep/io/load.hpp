@@ -1,4 +1,4 @@
-// Loads an expression from a file, choosing the reader by extension.
+// Loads an expression from a file, choosing the reader by content, then by extension.
 #pragma once
 
 #include <string>
@@ -7,8 +7,8 @@
 
 namespace frep {
 
-// `.vm` (Fidget's text format); other extensions are read as `.vm` too, since it is the only
-// expression format so far. Throws InputError naming the file and line.
+// `.frep` (frep's binary format, recognized by its magic bytes) or `.vm` (Fidget's text format;
+// anything else is read as .vm). Throws InputError naming the file and the line or byte.
 Model load_expression(const std::string& path);
 
 }  // namespace frep
