@@ -89,7 +89,8 @@ bool signs_agree(const std::vector<Vec3>& rays, const Vec3& sign_normal, const V
 }
 
 // Greedy convex merging of a region's triangles.
-void split_convex(const TriMesh& m, const MeshTopology& topo, const std::vector<std::uint32_t>& tris,
+void split_convex(const TriMesh& m, const MeshTopology& topo, const std::vector<EdgeShape>& shape,
+                  const std::vector<std::uint32_t>& tris,
                   const Vec3& normal, Region& region) {
   const Plane2 plane(normal);
   // Polygons start as the triangles; `owner` maps a triangle to its polygon (union-find).
@@ -114,7 +115,7 @@ void split_convex(const TriMesh& m, const MeshTopology& topo, const std::vector<
     polys[i].internal.assign(3, 0);
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t e = topo.triangle_edges(tris[i])[k];
-      if (topo.shape(e) != EdgeShape::Flat) continue;
+      if (shape[e] != EdgeShape::Flat) continue;
       polys[i].internal[k] = 1;
       const auto faces = topo.edge_faces(e);
       const std::uint32_t other = faces[0] == tris[i] ? faces[1] : faces[0];
@@ -167,13 +168,14 @@ void split_convex(const TriMesh& m, const MeshTopology& topo, const std::vector<
 }  // namespace
 
 Features extract_features(const TriMesh& m, const MeshTopology& topo) {
+  const std::vector<EdgeShape> shape = edge_shapes(m, topo);
   Features f;
   const std::size_t nt = m.triangles.size(), nv = m.vertices.size();
   // Regions: triangles joined through flat edges.
   std::vector<std::uint32_t> parent(nt);
   std::iota(parent.begin(), parent.end(), 0u);
   for (std::uint32_t e = 0; e < topo.num_edges(); ++e)
-    if (topo.shape(e) == EdgeShape::Flat) {
+    if (shape[e] == EdgeShape::Flat) {
       const auto faces = topo.edge_faces(e);
       const std::uint32_t a = find(parent, faces[0]), b = find(parent, faces[1]);
       if (a != b) parent[std::max(a, b)] = std::min(a, b);
@@ -214,14 +216,14 @@ Features extract_features(const TriMesh& m, const MeshTopology& topo) {
       for (std::uint32_t v : m.triangles[t])
         if (const double d2 = length2(m.vertices[v] - reg.center); d2 < near) near = d2, reg.anchor = v;
     reg.triangles = members[r].size();
-    split_convex(m, topo, members[r], reg.normal, reg);
+    split_convex(m, topo, shape, members[r], reg.normal, reg);
   }
 
   // Crease edges. A gentle one (normals less than ~84 degrees apart) joins a region's cluster:
   // its Voronoi region is the wedge between the two normals, on which both planes have the
   // surface's sign with margin n1 . n2.
   for (std::uint32_t e = 0; e < topo.num_edges(); ++e) {
-    const EdgeShape s = topo.shape(e);
+    const EdgeShape s = shape[e];
     if (s == EdgeShape::Flat) continue;
     FREP_ASSERT(s == EdgeShape::Convex || s == EdgeShape::Concave, "converter given an edge that is not a solid's");
     const auto faces = topo.edge_faces(e);

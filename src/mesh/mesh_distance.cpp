@@ -30,7 +30,6 @@ struct MeshDistance::Data {
   std::vector<std::array<std::uint32_t, 3>> tri_edges;  // per mesh triangle: edge k's id, or kNone
   std::vector<Vec3> vertex_normal;            // per welded vertex
   std::vector<Triangle> welded;               // per mesh triangle, welded vertex indices
-  MeshDistanceOptions options;
 };
 
 namespace {
@@ -40,7 +39,9 @@ constexpr double kFourPi = 4 * 3.14159265358979323846;
 constexpr std::size_t kQueryGrain = 1024;
 
 // Closest point on triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5), with the
-// feature it lies on. Degenerate triangles fall back to their edges.
+// feature it lies on. Degenerate triangles fall back to their edges; an edge region is only
+// taken for an edge of non-zero length (the denominator is its squared length: a triangle with
+// two corners at one point used to give 0 / 0 there, a NaN distance).
 Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
   const double l2 = dot(ab, ab);
@@ -57,7 +58,7 @@ inline Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, con
   const double d3 = dot(ab, bp), d4 = dot(ac, bp);
   if (d3 >= 0 && d4 <= d3) return f = Feature::Vertex1, b;
   const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+  if (vc <= 0 && d1 >= 0 && d3 <= 0 && d1 - d3 > 0) {
     const double v = d1 / (d1 - d3);
     return f = Feature::Edge0, a + ab * v;
   }
@@ -65,12 +66,12 @@ inline Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, con
   const double d5 = dot(ab, cp), d6 = dot(ac, cp);
   if (d6 >= 0 && d5 <= d6) return f = Feature::Vertex2, c;
   const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+  if (vb <= 0 && d2 >= 0 && d6 <= 0 && d2 - d6 > 0) {
     const double w = d2 / (d2 - d6);
     return f = Feature::Edge2, a + ac * w;
   }
   const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0 && (d4 - d3) + (d5 - d6) > 0) {
     const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
     return f = Feature::Edge1, b + (c - b) * w;
   }
@@ -258,7 +259,6 @@ MeshDistance::MeshDistance(const TriMesh& m, const MeshTopology& topo, const Mes
   FREP_ASSERT(topo.num_triangles() == m.triangles.size() && topo.num_vertices() == m.vertices.size(),
               "topology of another mesh");
   Data& d = *d_;
-  d.options = options;
   const std::size_t nt = m.triangles.size();
   d.welded = m.triangles;
   std::optional<TriangleBvh> own;

@@ -2,6 +2,7 @@
 // dispatched at run time).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "frep/math/vec.hpp"
@@ -16,15 +17,19 @@ struct alignas(32) WideNode {
   std::int32_t child[kWidth];           // >= 0: inner node; < 0: leaf, packets ~child, ~child + 1, ...
   std::uint32_t packets[kWidth];        // number of packets of a leaf child
 };
-// Four triangles, structure of arrays. Padding lanes repeat the packet's last triangle.
+// Four triangles, structure of arrays. Padding lanes repeat the packet's last triangle. Every
+// double array starts on a 32-byte boundary: the kernels load them with aligned loads.
 struct alignas(32) TriPacket {
   double a[3][kWidth], b[3][kWidth], c[3][kWidth];  // corners
   double n[3][kWidth];                              // cross(b - a, c - a); zero if degenerate
   double inv_n2[kWidth];                            // 1 / |n|^2, zero if degenerate
   double inv_e2[3][kWidth];  // 1 / |edge k|^2 (edge k joins corners k and k+1), zero if a point
-  std::uint32_t tri[kWidth];  // leaf-order triangle index
   double real[kWidth];        // 1 for a triangle, 0 for padding (sums must not count it twice)
+  std::uint32_t tri[kWidth];  // leaf-order triangle index
 };
+static_assert(offsetof(TriPacket, real) % 32 == 0 && offsetof(TriPacket, inv_e2) % 32 == 0 &&
+                  offsetof(TriPacket, inv_n2) % 32 == 0,
+              "aligned loads of TriPacket's arrays");
 // Winding-number data of a wide node's children: far from a child, its triangles act as one
 // dipole (the area-weighted sum of their normals at their area-weighted centroid).
 struct alignas(32) WideDipoles {

@@ -1,5 +1,5 @@
 // Mesh topology: edges from the vertex-to-triangle lists (no global sort), shells and fans by
-// union-find with the smallest index as the root, then normals and edge shapes.
+// union-find with the smallest index as the root, then normals; edge shapes on request.
 #include "frep/mesh/topology.hpp"
 
 #include <algorithm>
@@ -114,7 +114,7 @@ MeshTopology::MeshTopology(const TriMesh& m) {
   edge_vertices_.reserve(3 * usable / 2 + 16);
   edge_face_start_.reserve(3 * usable / 2 + 17);
   edge_faces_.reserve(3 * usable);
-  shape_.reserve(3 * usable / 2 + 16);
+  consistent_.reserve(3 * usable / 2 + 16);
   edge_face_start_.push_back(0);
   shell_of_.assign(nt, kNone);
   for (std::uint32_t t = 0; t < nt; ++t)
@@ -147,10 +147,7 @@ MeshTopology::MeshTopology(const TriMesh& m) {
         unite(fan_of_, spokes[i].slot_lo, spokes[i + 1].slot_lo);
         unite(fan_of_, spokes[i].slot_hi, spokes[i + 1].slot_hi);
       }
-      shape_.push_back(count == 1   ? EdgeShape::Boundary
-                       : count > 2  ? EdgeShape::NonManifold
-                       : forward != 1 ? EdgeShape::Inconsistent
-                                      : EdgeShape::Flat);  // the consistent ones are refined below
+      consistent_.push_back(count == 2 && forward == 1);
     }
   }
 
@@ -177,22 +174,11 @@ MeshTopology::MeshTopology(const TriMesh& m) {
     for (std::uint32_t s = vertex_start_[v]; s < vertex_start_[v + 1]; ++s)
       fan_of_[s] = fan_of_[s] == s ? fan_count_[v]++ : fan_of_[fan_of_[s]];
 
-  // Normals (the vertex sums run over the triangles in increasing order) and, while each
-  // triangle's corners are at hand, the shapes of the consistent edges it is the first face of.
+  // Normals. The vertex sums run over the triangles in increasing order.
   face_normal_.resize(nt);
   vertex_normal_.assign(nv, Vec3{});
   for (std::uint32_t t = 0; t < nt; ++t) {
     const Vec3 c[3] = {m.vertices[tri[t][0]], m.vertices[tri[t][1]], m.vertices[tri[t][2]]};
-    for (int k = 0; k < 3 && !collapsed(t); ++k) {
-      const std::uint32_t e = tri_edges_[t][k];
-      const EdgeShape sh = shape_[e];
-      if (sh == EdgeShape::Boundary || sh == EdgeShape::NonManifold || sh == EdgeShape::Inconsistent ||
-          edge_faces_[edge_face_start_[e]] != t)
-        continue;
-      const std::uint32_t g = edge_faces_[edge_face_start_[e] + 1];
-      const int kg = tri_edges_[g][0] == e ? 0 : (tri_edges_[g][1] == e ? 1 : 2);
-      shape_[e] = bend(c, c[k], c[(k + 1) % 3], c[(k + 2) % 3], m.vertices[tri[g][(kg + 2) % 3]]);
-    }
     const Vec3 n = cross(c[1] - c[0], c[2] - c[0]);
     const double l = length(n);
     face_normal_[t] = l > 0 ? n / l : Vec3{};
@@ -216,6 +202,35 @@ Vec3 MeshTopology::edge_pseudonormal(std::uint32_t e) const {
   Vec3 sum;
   for (std::uint32_t t : edge_faces(e)) sum += face_normal_[t];
   return sum;
+}
+
+std::vector<EdgeShape> edge_shapes(const TriMesh& m, const MeshTopology& topo) {
+  FREP_ASSERT(topo.num_triangles() == m.triangles.size() && topo.num_vertices() == m.vertices.size(),
+              "topology of another mesh");
+  std::vector<EdgeShape> shape(topo.num_edges());
+  for (std::uint32_t e = 0; e < topo.num_edges(); ++e) {
+    const std::uint32_t count = topo.edge_face_count(e);
+    shape[e] = count == 1 ? EdgeShape::Boundary
+               : count > 2 ? EdgeShape::NonManifold
+               : topo.consistent(e) ? EdgeShape::Flat  // decided below
+                                    : EdgeShape::Inconsistent;
+  }
+  // Each consistent edge from its first face, whose corners are at hand, and the far corner of
+  // its second face.
+  for (std::uint32_t t = 0; t < m.triangles.size(); ++t) {
+    if (!topo.usable(t)) continue;
+    const Triangle& tr = m.triangles[t];
+    const Vec3 c[3] = {m.vertices[tr[0]], m.vertices[tr[1]], m.vertices[tr[2]]};
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t e = topo.triangle_edges(t)[k];
+      if (!topo.consistent(e) || topo.edge_faces(e)[0] != t) continue;
+      const std::uint32_t g = topo.edge_faces(e)[1];
+      const auto& ge = topo.triangle_edges(g);
+      const int kg = ge[0] == e ? 0 : (ge[1] == e ? 1 : 2);
+      shape[e] = bend(c, c[k], c[(k + 1) % 3], c[(k + 2) % 3], m.vertices[m.triangles[g][(kg + 2) % 3]]);
+    }
+  }
+  return shape;
 }
 
 }  // namespace frep

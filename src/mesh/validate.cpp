@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numeric>
 #include <optional>
 
 #include "frep/error.hpp"
@@ -73,6 +72,31 @@ struct Shell {
   bool spatial = false;           // its corners are not all in one plane (exact)
 };
 
+// Contacts found by one thread of the intersection test, per kind (crossing, overlap, touching):
+// a count, and the smallest (a, b) pairs seen so far in a max-heap of at most `keep`, so memory
+// does not grow with the number of pairs and the examples do not depend on how pairs were
+// spread over the threads.
+struct alignas(64) PairTally {
+  using Pair = std::uint64_t;  // a << 32 | b, a < b
+  std::uint64_t count[3] = {0, 0, 0};
+  std::vector<Pair> best[3];
+
+  void add(int kind, std::uint32_t a, std::uint32_t b, std::size_t keep) {
+    ++count[kind];
+    if (keep == 0) return;
+    const Pair key = (Pair(std::min(a, b)) << 32) | std::max(a, b);
+    std::vector<Pair>& h = best[kind];
+    if (h.size() < keep) {
+      h.push_back(key);
+      std::push_heap(h.begin(), h.end());
+    } else if (key < h.front()) {
+      std::pop_heap(h.begin(), h.end());
+      h.back() = key;
+      std::push_heap(h.begin(), h.end());
+    }
+  }
+};
+
 // One validation: the welded, scaled mesh, its topology, and what the checks pass on to each
 // other (which triangles are flat, the shells, the intersection test's hierarchy).
 class Validation {
@@ -90,6 +114,9 @@ class Validation {
   ValidationReport finish();
 
  private:
+  std::vector<std::pair<std::uint32_t, Vec3>> nesting_probes() const;
+  std::vector<double> winding_numbers_at(const std::vector<std::pair<std::uint32_t, Vec3>>& probes) const;
+
   const TriMesh& raw_;
   const ValidationOptions& opt_;
   ValidationReport r_;
@@ -150,15 +177,29 @@ Validation::Validation(const TriMesh& raw, const ValidationOptions& opt)
   flat_.assign(m_.triangles.size(), 0);
 }
 
-// Unused vertices, and duplicates merged by welding (indexed formats only: STL repeats every
-// corner by design).
+// Unused vertices, and duplicates: vertices with a lower-numbered vertex at the same position
+// (indexed formats only: STL repeats every corner by design). Used vertices are grouped by the
+// weld (exact or within the tolerance); an unused vertex joins the group of any vertex at
+// exactly its position.
 void Validation::check_vertices() {
-  for (std::uint32_t v = 0; v < raw_.vertices.size(); ++v) {
+  const std::size_t nv = raw_.vertices.size();
+  bool any_unused = false;
+  for (std::uint32_t v = 0; v < nv; ++v) any_unused = any_unused || w_.welded_of_original[v] == kNoVertex;
+  std::optional<UnionFind> same;  // only needed when unused vertices can be duplicates
+  if (raw_.indexed && any_unused) {
+    same.emplace(first_at_same_position(raw_.vertices));
+    for (std::uint32_t v = 0; v < nv; ++v)
+      if (w_.welded_of_original[v] != kNoVertex) same->unite(v, w_.original_of_welded[w_.welded_of_original[v]]);
+  }
+  for (std::uint32_t v = 0; v < nv; ++v) {
     DefectLocation l;
     l.vertex = v;
     l.point = raw_.vertices[v];
-    if (w_.welded_of_original[v] == kNoVertex) add(DefectKind::UnusedVertices, l);
-    else if (raw_.indexed && w_.original_of_welded[w_.welded_of_original[v]] != v) add(DefectKind::DuplicateVertices, l);
+    const bool unused = w_.welded_of_original[v] == kNoVertex;
+    if (unused) add(DefectKind::UnusedVertices, l);
+    const bool duplicate =
+        same ? same->find(v) != v : !unused && w_.original_of_welded[w_.welded_of_original[v]] != v;
+    if (raw_.indexed && duplicate) add(DefectKind::DuplicateVertices, l);
   }
 }
 
@@ -303,16 +344,7 @@ void Validation::check_self_intersections() {
     bvh_.emplace(sub);
   }
   const int threads = std::min(resolve_thread_count(opt_.threads), 1024);
-  // Per thread and kind of contact: a count, and the smallest (a, b) pairs seen so far in a
-  // max-heap of at most max_examples, so memory does not grow with the number of pairs and
-  // the examples do not depend on how pairs were spread over the threads.
-  using Pair = std::uint64_t;  // a << 32 | b, a < b
-  struct alignas(64) PerThread {
-    std::uint64_t count[3] = {0, 0, 0};
-    std::vector<Pair> best[3];
-  };
-  std::vector<PerThread> found(threads);
-  const std::size_t keep = opt_.max_examples;
+  std::vector<PairTally> found(threads);
   bvh_->for_each_overlapping_pair_parallel(threads, [&](std::uint32_t a, std::uint32_t b, int th) {
     a = live[a], b = live[b];
     const Triangle &ta = m_.triangles[a], &tb = m_.triangles[b];
@@ -320,32 +352,18 @@ void Validation::check_self_intersections() {
     const Vec3 q[3] = {m_.vertices[tb[0]], m_.vertices[tb[1]], m_.vertices[tb[2]]};
     const unsigned pi[3] = {ta[0], ta[1], ta[2]}, qi[3] = {tb[0], tb[1], tb[2]};
     const Contact k = classify_triangle_pair(p, pi, q, qi);
-    if (k == Contact::None) return;
-    const int slot = k == Contact::Cross ? 0 : (k == Contact::Overlap ? 1 : 2);
-    PerThread& f = found[th];
-    ++f.count[slot];
-    if (keep == 0) return;
-    const Pair key = (Pair(std::min(a, b)) << 32) | std::max(a, b);
-    std::vector<Pair>& h = f.best[slot];
-    if (h.size() < keep) {
-      h.push_back(key);
-      std::push_heap(h.begin(), h.end());
-    } else if (key < h.front()) {
-      std::pop_heap(h.begin(), h.end());
-      h.back() = key;
-      std::push_heap(h.begin(), h.end());
-    }
+    if (k != Contact::None) found[th].add(k == Contact::Cross ? 0 : (k == Contact::Overlap ? 1 : 2), a, b, opt_.max_examples);
   });
   const DefectKind kinds[3] = {DefectKind::SelfIntersections, DefectKind::Overlaps, DefectKind::TouchingPairs};
-  for (int slot = 0; slot < 3; ++slot) {
-    std::vector<Pair> all;
-    Defect& x = d(kinds[slot]);
-    for (PerThread& f : found) {
-      x.count += f.count[slot];
-      all.insert(all.end(), f.best[slot].begin(), f.best[slot].end());
+  for (int kind = 0; kind < 3; ++kind) {
+    std::vector<PairTally::Pair> all;
+    Defect& x = d(kinds[kind]);
+    for (const PairTally& f : found) {
+      x.count += f.count[kind];
+      all.insert(all.end(), f.best[kind].begin(), f.best[kind].end());
     }
     std::sort(all.begin(), all.end());
-    for (std::size_t i = 0; i < all.size() && x.examples.size() < keep; ++i) {
+    for (std::size_t i = 0; i < all.size() && x.examples.size() < opt_.max_examples; ++i) {
       DefectLocation l = at_triangle(std::uint32_t(all[i] >> 32));
       l.other = std::uint32_t(all[i]);
       x.examples.push_back(l);
@@ -361,14 +379,22 @@ void Validation::check_shell_nesting() {
   if (!closed_manifold() || d(DefectKind::InconsistentOrientation).count != 0 || shells_.size() <= 1 ||
       d(DefectKind::SelfIntersections).count != 0 || d(DefectKind::Overlaps).count != 0)
     return;
+  const std::vector<std::pair<std::uint32_t, Vec3>> probes = nesting_probes();
+  const std::vector<double> wn = winding_numbers_at(probes);
+  for (std::size_t k = 0; k < probes.size(); ++k)
+    if (!(std::fabs(wn[k]) < 0.5)) add(DefectKind::ShellOrientation, at_triangle(shells_[probes[k].first].largest));
+}
+
+// Per shell that spans space: a point just off its largest triangle, on the normal's side. The
+// offset from the centroid is a small fraction of the inradius (|n| / perimeter), doubled until
+// the point is strictly on that side by the exact predicate.
+std::vector<std::pair<std::uint32_t, Vec3>> Validation::nesting_probes() const {
   std::vector<std::pair<std::uint32_t, Vec3>> probes;  // (shell, point)
   for (std::uint32_t i = 0; i < shells_.size(); ++i) {
     const Shell& s = shells_[i];
     if (s.largest == kNone || !s.spatial) continue;
     const Vec3 a = m_.corner(s.largest, 0), b = m_.corner(s.largest, 1), c = m_.corner(s.largest, 2);
     const Vec3 n = cross(b - a, c - a), g = (a + b + c) / 3.0;
-    // Offset from the centroid by a small fraction of the inradius (|n| / perimeter), doubled
-    // until the point is strictly on the normal's side by the exact predicate.
     double delta = 1e-3 * length(n) / (length(b - a) + length(c - b) + length(a - c));
     const Vec3 u = n / length(n);
     for (int it = 0; it < 64; ++it, delta *= 2) {
@@ -379,11 +405,17 @@ void Validation::check_shell_nesting() {
       }
     }
   }
-  // A closed shell's winding number is 0 outside its box, so only the shells whose boxes
-  // contain a probe count: found through a hierarchy over the shell boxes (each box as a
-  // "triangle" from its low to its high corner), then summed exactly over their triangles.
-  // Disjoint shells cost about one pass over the mesh; if nesting makes the exact sums too
-  // expensive, the whole mesh's hierarchical (far-field dipole) winding number is used.
+  return probes;
+}
+
+// The whole mesh's winding number at each probe. A closed shell's winding number is 0 outside
+// its box, so only the shells whose boxes contain a probe count: found through a hierarchy over
+// the shell boxes (each box as a "triangle" from its low to its high corner), then summed
+// exactly over their triangles. Disjoint shells cost about one pass over the mesh; if nesting
+// makes the exact sums too expensive, the hierarchical (far-field dipole) winding number of the
+// whole mesh is used, built on the welded mesh, its topology and, if it covers every triangle,
+// the intersection test's hierarchy.
+std::vector<double> Validation::winding_numbers_at(const std::vector<std::pair<std::uint32_t, Vec3>>& probes) const {
   std::vector<std::size_t> live_faces(shells_.size(), 0);  // per shell: triangles not flat
   TriMesh box_mesh;
   for (std::uint32_t i = 0; i < shells_.size(); ++i) {
@@ -395,27 +427,23 @@ void Validation::check_shell_nesting() {
   const TriangleBvh box_bvh(box_mesh);
   std::vector<std::vector<std::uint32_t>> around(probes.size());  // shells whose box holds the probe
   std::size_t work = 0;
-  {
-    const auto& nodes = box_bvh.nodes();
-    std::vector<std::uint32_t> stack;
-    for (std::size_t k = 0; k < probes.size(); ++k) {
-      const Vec3& p = probes[k].second;
-      stack.assign(1, 0);
-      while (!stack.empty()) {
-        const TriangleBvh::Node& n = nodes[stack.back()];
-        stack.pop_back();
-        if (!(n.lo[0] <= p.x && p.x <= n.hi[0] && n.lo[1] <= p.y && p.y <= n.hi[1] && n.lo[2] <= p.z &&
-              p.z <= n.hi[2]))
-          continue;
-        if (!n.leaf()) {
-          stack.push_back(n.index);
-          stack.push_back(n.index + 1);
-          continue;
-        }
-        for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
-          const std::uint32_t j = box_bvh.order()[i];
-          if (shells_[j].box.contains(p)) around[k].push_back(j), work += live_faces[j];
-        }
+  std::vector<std::uint32_t> stack;
+  for (std::size_t k = 0; k < probes.size(); ++k) {
+    const Vec3& p = probes[k].second;
+    stack.assign(1, 0);
+    while (!stack.empty()) {
+      const TriangleBvh::Node& n = box_bvh.nodes()[stack.back()];
+      stack.pop_back();
+      if (!(n.lo[0] <= p.x && p.x <= n.hi[0] && n.lo[1] <= p.y && p.y <= n.hi[1] && n.lo[2] <= p.z && p.z <= n.hi[2]))
+        continue;
+      if (!n.leaf()) {
+        stack.push_back(n.index);
+        stack.push_back(n.index + 1);
+        continue;
+      }
+      for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
+        const std::uint32_t j = box_bvh.order()[i];
+        if (shells_[j].box.contains(p)) around[k].push_back(j), work += live_faces[j];
       }
     }
   }
@@ -429,13 +457,10 @@ void Validation::check_shell_nesting() {
       wn[k] = sum / (4 * 3.14159265358979323846);
     }
   } else {
-    // The welded mesh, its topology and (if it covers every triangle) the intersection test's
-    // hierarchy are reused.
     const MeshDistance md(m_, topo_, {}, bvh_is_whole_ ? &*bvh_ : nullptr);
     for (std::size_t k = 0; k < probes.size(); ++k) wn[k] = md.winding_number(probes[k].second);
   }
-  for (std::size_t k = 0; k < probes.size(); ++k)
-    if (!(std::fabs(wn[k]) < 0.5)) add(DefectKind::ShellOrientation, at_triangle(shells_[probes[k].first].largest));
+  return wn;
 }
 
 ValidationReport Validation::finish() {

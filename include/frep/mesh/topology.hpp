@@ -3,7 +3,7 @@
 // angle-weighted pseudonormals), with the solid angle. One definition shared by validation, the
 // distance oracle and the mesh-to-expression converter.
 //
-// Everything is built once, in flat arrays (CSR for the variable-length lists): about 130 bytes
+// Everything is built once, in flat arrays (CSR for the variable-length lists): about 125 bytes
 // per triangle. Collapsed triangles (a vertex index repeated) take no part in any of it; they
 // keep their index, with no edges and no shell.
 #pragma once
@@ -26,8 +26,8 @@ double solid_angle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 // the weight of the face in a's angle-weighted pseudonormal.
 double corner_angle(const Vec3& a, const Vec3& b, const Vec3& c);
 
-// How the faces of an edge meet. Decided exactly (orient3d / orient2d on the coordinates given),
-// so flat regions and creases are told apart without a tolerance.
+// How the faces of an edge meet (edge_shapes() below). Decided exactly (orient3d / orient2d on
+// the coordinates given), so flat regions and creases are told apart without a tolerance.
 enum class EdgeShape : std::uint8_t {
   Boundary,      // one face
   NonManifold,   // three or more faces
@@ -74,8 +74,7 @@ class MeshTopology {
   std::uint32_t edge_face_count(std::uint32_t e) const { return edge_face_start_[e + 1] - edge_face_start_[e]; }
   bool manifold(std::uint32_t e) const { return edge_face_count(e) == 2; }
   // Manifold, and its two faces traverse it in opposite directions.
-  bool consistent(std::uint32_t e) const { return manifold(e) && shape_[e] != EdgeShape::Inconsistent; }
-  EdgeShape shape(std::uint32_t e) const { return shape_[e]; }
+  bool consistent(std::uint32_t e) const { return consistent_[e] != 0; }
   // The edge joining vertices a and b (either order), or kNone.
   std::uint32_t find_edge(std::uint32_t a, std::uint32_t b) const;
 
@@ -115,7 +114,7 @@ class MeshTopology {
   std::vector<std::array<std::uint32_t, 3>> tri_edges_;     // per triangle
   std::vector<std::array<std::uint32_t, 2>> edge_vertices_;  // per edge
   std::vector<std::uint32_t> edge_face_start_, edge_faces_;  // CSR: edge -> triangles
-  std::vector<EdgeShape> shape_;                             // per edge
+  std::vector<std::uint8_t> consistent_;                     // per edge
   std::vector<std::uint32_t> vertex_start_, vertex_faces_;  // CSR: vertex -> triangles
   std::vector<std::uint32_t> fan_of_;                        // parallel to vertex_faces_
   std::vector<std::uint32_t> fan_count_;                     // per vertex
@@ -125,5 +124,10 @@ class MeshTopology {
   std::vector<Vec3> vertex_normal_;                          // per vertex
   std::size_t used_vertices_ = 0;
 };
+
+// How the faces of each edge meet (indexed by edge id), decided exactly on the coordinates of
+// `welded`, the mesh `topology` was built from. One pass over the triangles, on request: the
+// converter needs it, validation and the distance oracle do not.
+std::vector<EdgeShape> edge_shapes(const TriMesh& welded, const MeshTopology& topology);
 
 }  // namespace frep
