@@ -14,7 +14,8 @@ void register_convert(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "convert",
       "Convert a closed mesh (STL, OBJ, PLY, OFF) into an expression that is its exact signed distance "
-      "(negative inside), written as .vm (Fidget's text format) or .frep (frep's compact binary format)");
+      "(negative inside), written as .vm (Fidget's text format), .rhai (a Fidget script) or .frep (frep's "
+      "compact binary format)");
   struct Args {
     std::string mesh, output, sign = "pseudonormal", tetgen = "tetgen";
     double weld_tolerance = 0, tetgen_timeout = 600;
@@ -23,7 +24,7 @@ void register_convert(CLI::App& app) {
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("MESH", a->mesh, "Mesh file")->required();
-  cmd->add_option("-o,--output", a->output, "Output expression (.vm or .frep)")->required();
+  cmd->add_option("-o,--output", a->output, "Output expression (.vm, .rhai or .frep)")->required();
   cmd->add_option("--sign", a->sign,
                   "How inside is told from outside: 'pseudonormal' (default: the nearest feature's angle-weighted "
                   "normal; no external program) or 'tets' (the union of TetGen's tetrahedra; needs the tetgen program)")

@@ -132,6 +132,7 @@ ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
   const double margin = 0x1p-20 * extent / s;
 
   Graph& g = *r.model.graph;
+  g.reserve(80 * st.triangles);  // about what meshes take (docs/convert.md)
   Tetrahedralization tz;
   if (o.sign == SignMode::Tetrahedra) {
     report(o, "tetgen", 0.4);

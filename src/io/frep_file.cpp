@@ -114,6 +114,7 @@ Model parse_frep(std::string_view b, const std::string& name) {
   Graph& g = *m.graph;
   std::vector<NodeId> ids;
   ids.reserve(count);
+  g.reserve(count);
   std::size_t at = kHeader;
   const std::size_t end = b.size() - 4;
   auto varint = [&](std::size_t i) -> NodeId {

@@ -7,7 +7,8 @@
 
 namespace frep {
 
-// `.vm` (Fidget's text format) or `.frep` (frep's binary format); written atomically. Throws
+// `.vm` (Fidget's text format), `.rhai` (a Fidget script) or `.frep` (frep's binary format);
+// written atomically. Throws
 // InputError for another extension (naming the supported ones) or an unwritable path.
 void save_expression(const std::string& path, const Graph& g, NodeId root);
 
