@@ -50,6 +50,12 @@ constexpr double kClusterCos = 0.1;
 // Signs are trusted on a cone's ray only with this margin (cosine).
 constexpr double kSignMargin = 0.02;
 
+// Whether three points lie on one line, exactly.
+bool collinear(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return exact::orient2d(a.x, a.y, b.x, b.y, c.x, c.y) == 0 && exact::orient2d(a.y, a.z, b.y, b.z, c.y, c.z) == 0 &&
+         exact::orient2d(a.z, a.x, b.z, b.x, c.z, c.x) == 0;
+}
+
 // Extreme rays of the cone {u : u . d <= 0 for all d in dirs} (unit vectors): intersections of
 // two of its facet planes that satisfy every constraint. Empty when the cone is just {0}.
 void voronoi_rays(const std::vector<Vec3>& dirs, std::vector<Vec3>& rays) {
@@ -137,23 +143,38 @@ void split_convex(const TriMesh& m, const MeshTopology& topo, const std::vector<
     if (pa == pb) continue;  // already one polygon (cannot happen for a convex one, but be safe)
     Polygon& A = polys[pa];
     Polygon& B = polys[pb];
-    const std::size_t ia = position(A, e.a, e.b), ib = position(B, e.b, e.a);
+    std::size_t ia = position(A, e.a, e.b), ib = position(B, e.b, e.a);
     FREP_ASSERT(ia < A.loop.size() && ib < B.loop.size(), "internal edge missing from its polygons");
     const std::size_t na = A.loop.size(), nb = B.loop.size();
-    // Merged loop: A from b around to a, then B from a around to b.
-    const Vec3& va = m.vertices[e.a];
-    const Vec3& vb = m.vertices[e.b];
-    const Vec3& a_prev = m.vertices[A.loop[(ia + na - 1) % na]];  // before a in A
-    const Vec3& a_next = m.vertices[B.loop[(ib + 2) % nb]];       // after a in B
-    const Vec3& b_prev = m.vertices[B.loop[(ib + nb - 1) % nb]];  // before b in B
-    const Vec3& b_next = m.vertices[A.loop[(ia + 2) % na]];       // after b in A
-    if (!plane.convex(a_prev, va, a_next) || !plane.convex(b_prev, vb, b_next)) continue;
+    // The whole boundary A and B share around this edge: a chain of edges A runs along one way
+    // and B the other. Extend it backward (A's previous edge is B's next) and forward.
+    std::size_t len = 1;  // shared edges, from A.loop[ia] to A.loop[ia + len]
+    while (len < na && len < nb && A.loop[(ia + na - 1) % na] == B.loop[(ib + len + 1) % nb]) {
+      ia = (ia + na - 1) % na;
+      ++len;
+    }
+    while (len < na && len < nb && A.loop[(ia + len + 1) % na] == B.loop[(ib + nb - 1) % nb]) {
+      ib = (ib + nb - 1) % nb;
+      ++len;
+    }
+    if (len >= na || len >= nb) continue;  // one polygon inside the other: leave them
+    // Chain from s = A.loop[ia] to t = A.loop[ia + len]; in B it runs from t (at ib) to s.
+    const std::uint32_t s_id = A.loop[ia], t_id = A.loop[(ia + len) % na];
+    const Vec3& vs = m.vertices[s_id];
+    const Vec3& vt = m.vertices[t_id];
+    const Vec3& s_prev = m.vertices[A.loop[(ia + na - 1) % na]];  // before s in A
+    const Vec3& s_next = m.vertices[B.loop[(ib + len + 1) % nb]];  // after s in B
+    const Vec3& t_prev = m.vertices[B.loop[(ib + nb - 1) % nb]];   // before t in B
+    const Vec3& t_next = m.vertices[A.loop[(ia + len + 1) % na]];  // after t in A
+    if (!plane.convex(s_prev, vs, s_next) || !plane.convex(t_prev, vt, t_next)) continue;
+    // Merged loop: A from t around to s, then B from s around to t; the chain's inner vertices
+    // end up inside the merged polygon.
     Polygon merged;
-    for (std::size_t k = 1; k < na; ++k) {  // A's edges after a->b, ending at a
+    for (std::size_t k = len; k < na; ++k) {
       merged.loop.push_back(A.loop[(ia + k) % na]);
       merged.internal.push_back(A.internal[(ia + k) % na]);
     }
-    for (std::size_t k = 1; k < nb; ++k) {  // B's edges after b->a, ending at b
+    for (std::size_t k = len; k < nb; ++k) {
       merged.loop.push_back(B.loop[(ib + k) % nb]);
       merged.internal.push_back(B.internal[(ib + k) % nb]);
     }
@@ -161,8 +182,25 @@ void split_convex(const TriMesh& m, const MeshTopology& topo, const std::vector<
     B = Polygon{};
     owner[pb] = pa;
   }
-  for (std::size_t i = 0; i < n; ++i)
-    if (owner[i] == i) region.polygons.push_back(std::move(polys[i]));
+  // Vertices where a polygon goes straight on add nothing to its prism test: drop them (the
+  // merged side is internal, with the margin, if either part was).
+  for (std::size_t i = 0; i < n; ++i) {
+    if (owner[i] != i) continue;
+    Polygon& p = polys[i];
+    for (bool changed = true; changed && p.loop.size() > 3;) {
+      changed = false;
+      for (std::size_t k = 0; k < p.loop.size() && p.loop.size() > 3; ++k) {
+        const std::size_t prev = (k + p.loop.size() - 1) % p.loop.size(), next = (k + 1) % p.loop.size();
+        if (plane.orient(m.vertices[p.loop[prev]], m.vertices[p.loop[k]], m.vertices[p.loop[next]]) != 0) continue;
+        p.internal[prev] = p.internal[prev] || p.internal[k];
+        p.loop.erase(p.loop.begin() + static_cast<std::ptrdiff_t>(k));
+        p.internal.erase(p.internal.begin() + static_cast<std::ptrdiff_t>(k));
+        changed = true;
+        break;
+      }
+    }
+    region.polygons.push_back(std::move(p));
+  }
 }
 
 }  // namespace
@@ -219,16 +257,53 @@ Features extract_features(const TriMesh& m, const MeshTopology& topo) {
     split_convex(m, topo, shape, members[r], reg.normal, reg);
   }
 
-  // Crease edges. A gentle one (normals less than ~84 degrees apart) joins a region's cluster:
-  // its Voronoi region is the wedge between the two normals, on which both planes have the
-  // surface's sign with margin n1 . n2.
+  // Crease edges, with runs of collinear creases between the same two regions merged into one
+  // segment (a box edge cut into pieces by its faces' triangulation is still one edge). A gentle
+  // crease (normals less than ~84 degrees apart) joins a region's cluster: its Voronoi region is
+  // the wedge between the two normals, on which both planes have the surface's sign with margin
+  // n1 . n2.
+  struct Crease {
+    std::uint32_t a, b, ra, rb;
+  };
+  std::vector<Crease> creases;
+  std::vector<std::vector<std::uint32_t>> creases_at(nv);
   for (std::uint32_t e = 0; e < topo.num_edges(); ++e) {
     const EdgeShape s = shape[e];
     if (s == EdgeShape::Flat) continue;
     FREP_ASSERT(s == EdgeShape::Convex || s == EdgeShape::Concave, "converter given an edge that is not a solid's");
     const auto faces = topo.edge_faces(e);
     const auto ends = topo.edge_vertices(e);
-    const std::uint32_t ra = f.region_of[faces[0]], rb = f.region_of[faces[1]];
+    creases_at[ends[0]].push_back(static_cast<std::uint32_t>(creases.size()));
+    creases_at[ends[1]].push_back(static_cast<std::uint32_t>(creases.size()));
+    creases.push_back({ends[0], ends[1], f.region_of[faces[0]], f.region_of[faces[1]]});
+  }
+  auto same_regions = [](const Crease& x, const Crease& y) {
+    return (x.ra == y.ra && x.rb == y.rb) || (x.ra == y.rb && x.rb == y.ra);
+  };
+  // The crease continuing c through its end v, if v joins exactly two creases, of the same two
+  // regions, in a straight line.
+  auto continuation = [&](std::uint32_t c, std::uint32_t v) -> std::uint32_t {
+    if (creases_at[v].size() != 2) return kNone;
+    const std::uint32_t d = creases_at[v][0] == c ? creases_at[v][1] : creases_at[v][0];
+    if (d == c || !same_regions(creases[c], creases[d])) return kNone;
+    const std::uint32_t u = creases[c].a == v ? creases[c].b : creases[c].a;
+    const std::uint32_t w = creases[d].a == v ? creases[d].b : creases[d].a;
+    return collinear(m.vertices[u], m.vertices[v], m.vertices[w]) ? d : kNone;
+  };
+  std::vector<std::uint8_t> used(creases.size(), 0);
+  for (std::uint32_t c = 0; c < creases.size(); ++c) {
+    if (used[c]) continue;
+    used[c] = 1;
+    std::uint32_t ends[2] = {creases[c].a, creases[c].b};
+    for (int side = 0; side < 2; ++side) {
+      std::uint32_t cur = c;
+      for (std::uint32_t next; (next = continuation(cur, ends[side])) != kNone && !used[next];) {
+        used[next] = 1;
+        ends[side] = creases[next].a == ends[side] ? creases[next].b : creases[next].a;
+        cur = next;
+      }
+    }
+    const std::uint32_t ra = creases[c].ra, rb = creases[c].rb;
     const bool gentle = dot(f.regions[ra].normal, f.regions[rb].normal) > kClusterCos;
     f.edges.push_back({ends[0], ends[1], ra, rb, gentle ? ra : kNone, false});
   }

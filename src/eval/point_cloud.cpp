@@ -18,10 +18,6 @@ namespace {
 
 constexpr std::size_t kChunk = 4096;     // points per first-level chunk
 constexpr std::size_t kSubChunk = 256;   // points per second-level chunk
-// Below this many instructions a simplification pass costs more than it saves.
-constexpr std::size_t kWorthSimplifying = 20000;
-// Groups whose box is larger than this fraction of the cloud's are not worth simplifying for.
-constexpr double kSmallBox = 0.05;
 
 std::uint64_t spread(std::uint64_t v) {  // 21 bits -> every third of 63
   v &= 0x1fffff;
@@ -38,6 +34,7 @@ std::uint64_t spread(std::uint64_t v) {  // 21 bits -> every third of 63
 struct PointCloudEvaluator::Worker {
   IntervalEvaluator intervals;
   BatchEvaluator batch;
+  GradEvaluator grad;
   Tape chunk_tape, sub_tape;
 };
 
@@ -50,6 +47,19 @@ PointCloudEvaluator::~PointCloudEvaluator() = default;
 
 void PointCloudEvaluator::eval(const Tape& tape, const float* xs, const float* ys, const float* zs, float* out,
                                std::size_t n) {
+  run(tape, xs, ys, zs, out, n, [](Worker& w, const Tape& t, const float* x, const float* y, const float* z, float* o,
+                                   std::size_t m) { w.batch.eval(t, x, y, z, o, m); });
+}
+
+void PointCloudEvaluator::eval_grad(const Tape& tape, const float* xs, const float* ys, const float* zs, Grad* out,
+                                    std::size_t n) {
+  run(tape, xs, ys, zs, out, n, [](Worker& w, const Tape& t, const float* x, const float* y, const float* z, Grad* o,
+                                   std::size_t m) { w.grad.eval(t, x, y, z, o, m); });
+}
+
+template <class Out, class Leaf>
+void PointCloudEvaluator::run(const Tape& tape, const float* xs, const float* ys, const float* zs, Out* out,
+                              std::size_t n, Leaf&& leaf) {
   FREP_ASSERT(!tape.code().empty(), "point cloud evaluation needs a tape with register code");
   if (n == 0) return;
   const float* c[3] = {xs, ys, zs};
@@ -69,7 +79,8 @@ void PointCloudEvaluator::eval(const Tape& tape, const float* xs, const float* y
     keys[i] = {code, static_cast<std::uint32_t>(i)};
   }
   std::sort(keys.begin(), keys.end());
-  std::vector<float> px(n), py(n), pz(n), res(n);
+  std::vector<float> px(n), py(n), pz(n);
+  std::vector<Out> res(n);
   for (std::size_t i = 0; i < n; ++i) px[i] = xs[keys[i].second], py[i] = ys[keys[i].second], pz[i] = zs[keys[i].second];
 
   // Simplifies `t` for the box of points [b, e) into `dst`; returns the tape to use: `t` itself
@@ -78,7 +89,7 @@ void PointCloudEvaluator::eval(const Tape& tape, const float* xs, const float* y
   const double cloud = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                                  (hi[2] - lo[2]) * (hi[2] - lo[2]));
   auto narrow = [&](Worker& w, const Tape& t, std::size_t b, std::size_t e, Tape& dst) -> const Tape& {
-    if (t.size() < kWorthSimplifying || t.choice_count() == 0) return t;
+    if (t.size() < options_.min_tape || t.choice_count() == 0) return t;
     float l[3] = {px[b], py[b], pz[b]}, h[3] = {px[b], py[b], pz[b]};
     for (std::size_t i = b; i < e; ++i) {
       const float v[3] = {px[i], py[i], pz[i]};
@@ -90,7 +101,7 @@ void PointCloudEvaluator::eval(const Tape& tape, const float* xs, const float* y
     }
     const double diag = std::sqrt(double(h[0] - l[0]) * (h[0] - l[0]) + double(h[1] - l[1]) * (h[1] - l[1]) +
                                   double(h[2] - l[2]) * (h[2] - l[2]));
-    if (diag > kSmallBox * cloud) return t;
+    if (diag > options_.max_box * cloud) return t;
     w.intervals.simplify(t, {l[0], h[0]}, {l[1], h[1]}, {l[2], h[2]}, dst);
     return dst;
   };
@@ -102,7 +113,7 @@ void PointCloudEvaluator::eval(const Tape& tape, const float* xs, const float* y
     for (std::size_t sb = b; sb < e; sb += kSubChunk) {
       const std::size_t se = std::min(e, sb + kSubChunk);
       const Tape& st = narrow(w, ct, sb, se, w.sub_tape);
-      w.batch.eval(st, &px[sb], &py[sb], &pz[sb], &res[sb], se - sb);
+      leaf(w, st, &px[sb], &py[sb], &pz[sb], &res[sb], se - sb);
     }
   });
   for (std::size_t i = 0; i < n; ++i) out[keys[i].second] = res[i];

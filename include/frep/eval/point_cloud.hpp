@@ -9,6 +9,7 @@
 #include <memory>
 #include <vector>
 
+#include "frep/eval/grad.hpp"
 #include "frep/eval/tape.hpp"
 
 namespace frep {
@@ -16,7 +17,9 @@ namespace frep {
 class ThreadPool;
 
 struct PointCloudOptions {
-  int threads = 0;  // worker threads; 0 = all hardware threads
+  int threads = 0;                  // worker threads; 0 = all hardware threads
+  std::size_t min_tape = 20000;     // smaller tapes are evaluated as they are (simplifying costs more)
+  double max_box = 0.05;            // groups whose box exceeds this fraction of the cloud's are not simplified for
 };
 
 // Reusable: keeps its pool and per-worker scratch between calls.
@@ -29,9 +32,13 @@ class PointCloudEvaluator {
 
   // out[i] = f(xs[i], ys[i], zs[i]) for i < n. `tape` needs register code (Tape::compile).
   void eval(const Tape& tape, const float* xs, const float* ys, const float* zs, float* out, std::size_t n);
+  // The same with gradients (bit-identical to GradEvaluator on the full tape).
+  void eval_grad(const Tape& tape, const float* xs, const float* ys, const float* zs, Grad* out, std::size_t n);
 
  private:
   struct Worker;
+  template <class Out, class Leaf>
+  void run(const Tape& tape, const float* xs, const float* ys, const float* zs, Out* out, std::size_t n, Leaf&& leaf);
   PointCloudOptions options_;
   std::unique_ptr<ThreadPool> pool_;
   std::vector<std::unique_ptr<Worker>> workers_;
