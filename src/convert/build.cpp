@@ -290,11 +290,12 @@ std::vector<std::uint32_t> morton_order(const std::vector<Vec3>& points, const B
 Term join(Graph& g, const Term& a, const Term& b) {
   Term r{g.binary(Op::Min, a.d2, b.d2), kNoNode, a.at};
   if (a.sign != kNoNode) {
-    // The sign of the nearer term: c1 = compare(a, b) + 1 is non-zero when b is at least as
-    // near, and then and(c1, sb) = sb, which or() returns unless it is 0 (only on the surface,
-    // where the distance is 0 and the sign does not matter).
+    // The sign of the nearer term: c1 = compare(a, b) + 1 is 0 where a is nearer and non-zero
+    // where b is at least as near; the select or(and(c1, sb), and(not(c1), sa)) gives sb or sa
+    // (a 0 sign only on the surface, where the distance is 0), and over a box where one side is
+    // nearer throughout, interval pruning drops the other side's sign along with its distance.
     const NodeId c1 = g.binary(Op::Add, g.binary(Op::Compare, a.d2, b.d2), g.constant(1.0f));
-    r.sign = g.binary(Op::Or, g.binary(Op::And, c1, b.sign), a.sign);
+    r.sign = g.binary(Op::Or, g.binary(Op::And, c1, b.sign), g.binary(Op::And, g.unary(Op::Not, c1), a.sign));
   }
   return r;
 }
