@@ -149,7 +149,10 @@ ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
   if (o.sign == SignMode::Pseudonormal) {
     ExprBuilder b(g, points, f, margin, frame);
     const Term root = b.distance(true, box);
-    r.model.root = g.binary(Op::Mul, root.sign, g.unary(Op::Sqrt, root.d2));
+    // sqrt(P) where P <= N, else -sqrt(N): compare(P, N) > 0 exactly where the nearest feature is
+    // an inside one.
+    const Expr inside = max(compare(Expr(g, root.d2), Expr(g, root.neg)), 0.0f);
+    r.model.root = if_nonzero_else(inside, -sqrt(Expr(g, root.neg)), sqrt(Expr(g, root.d2))).id();
   } else {
     // Unsigned terms only: vertex terms exist to settle signs, which the tetrahedra do here.
     Features uf = f;
