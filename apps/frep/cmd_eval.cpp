@@ -6,7 +6,7 @@
 
 #include "commands.hpp"
 #include "frep/error.hpp"
-#include "frep/eval/evaluators.hpp"
+#include "frep/eval/point_cloud.hpp"
 #include "frep/io/atomic_file.hpp"
 #include "frep/io/load.hpp"
 #include "frep/io/points.hpp"
@@ -20,7 +20,7 @@ void register_eval(CLI::App& app) {
     bool grad = false;
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("FILE", a->file, "Expression file (.vm)")->required();
+  cmd->add_option("FILE", a->file, "Expression file (.vm, .rhai or .frep)")->required();
   cmd->add_option("--points,-p", a->points,
                   "Points file, one 'x y z' per line (commas allowed; 'x y' means z = 0); - for stdin")
       ->required();
@@ -32,17 +32,18 @@ void register_eval(CLI::App& app) {
     const std::size_t n = p.x.size();
     std::string out;
     char buf[160];
+    // Scattered points with pruning: a converted mesh's expression has millions of nodes, of
+    // which each point needs only the nearby ones (results equal the full tape's, bit for bit).
+    PointCloudEvaluator ev;
     if (a->grad) {
       std::vector<Grad> g(n);
-      GradEvaluator ev;
-      ev.eval(tape, p.x.data(), p.y.data(), p.z.data(), g.data(), n);
+      ev.eval_grad(tape, p.x.data(), p.y.data(), p.z.data(), g.data(), n);
       for (const Grad& r : g) {
         std::snprintf(buf, sizeof buf, "%.9g %.9g %.9g %.9g\n", r.v, r.dx, r.dy, r.dz);
         out += buf;
       }
     } else {
       std::vector<float> v(n);
-      BatchEvaluator ev;
       ev.eval(tape, p.x.data(), p.y.data(), p.z.data(), v.data(), n);
       for (float r : v) {
         std::snprintf(buf, sizeof buf, "%.9g\n", r);

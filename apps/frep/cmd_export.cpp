@@ -35,7 +35,7 @@ void register_export(CLI::App& app) {
     int nan_checks = -1;  // -1: the format's default
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("FILE", a->file, "Expression file (.vm)")->required();
+  cmd->add_option("FILE", a->file, "Expression file (.vm, .rhai or .frep)")->required();
   cmd->add_option("-o,--output", a->output, "Output file ('-' for standard output)")->required();
   cmd->add_option("--format,-f", a->format, "glsl, shadertoy, c or latex")
       ->check(CLI::IsMember({"glsl", "shadertoy", "c", "latex"}));

@@ -11,7 +11,7 @@ namespace frep::cli {
 void register_info(CLI::App& app) {
   auto* cmd = app.add_subcommand("info", "Print node counts by opcode, variables used and tape length");
   auto file = std::make_shared<std::string>();
-  cmd->add_option("FILE", *file, "Expression file (.vm)")->required();
+  cmd->add_option("FILE", *file, "Expression file (.vm, .rhai or .frep)")->required();
   cmd->callback([file] {
     const Model m = load_expression(*file);
     const std::vector<NodeId> nodes = reachable_nodes(*m.graph, m.root);

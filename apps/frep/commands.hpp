@@ -24,6 +24,7 @@ void register_eval(CLI::App& app);
 void register_render(CLI::App& app);
 void register_check(CLI::App& app);
 void register_sdf(CLI::App& app);
+void register_convert(CLI::App& app);
 void register_export(CLI::App& app);
 
 inline void register_commands(CLI::App& app) {
@@ -32,6 +33,7 @@ inline void register_commands(CLI::App& app) {
   register_render(app);
   register_check(app);
   register_sdf(app);
+  register_convert(app);
   register_export(app);
 }
 

@@ -1,6 +1,10 @@
 #include "frep/expr/graph.hpp"
 
+#include <sys/mman.h>
+
 #include <bit>
+#include <cstdlib>
+#include <new>
 #include <cstring>
 
 #include "frep/error.hpp"
@@ -31,35 +35,66 @@ bool is_bits(float v, float want) {
 
 }  // namespace
 
-Graph::Graph() : index_(64, kNoNode) {}
+namespace {
+constexpr std::uint64_t kEmptySlot = ~std::uint64_t(0);
+constexpr std::size_t kHugePage = std::size_t(2) << 20;
+}  // namespace
+
+namespace detail {
+void* allocate_large(std::size_t bytes) {
+  if (bytes < kHugePage) {
+    void* p = std::malloc(bytes ? bytes : 1);
+    if (!p) throw std::bad_alloc();
+    return p;
+  }
+  const std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
+  void* p = std::aligned_alloc(kHugePage, rounded);
+  if (!p) throw std::bad_alloc();
+  ::madvise(p, rounded, MADV_HUGEPAGE);  // a hint: failure only costs speed
+  return p;
+}
+void deallocate_large(void* p, std::size_t) noexcept { std::free(p); }
+}  // namespace detail
+
+Graph::Graph() : index_(64, kEmptySlot) {}
 
 std::size_t Graph::memory_bytes() const {
-  return nodes_.capacity() * sizeof(Node) + index_.capacity() * sizeof(NodeId);
+  return nodes_.capacity() * sizeof(Node) + index_.capacity() * sizeof(std::uint64_t);
 }
 
-void Graph::grow_index() {
-  std::vector<NodeId> bigger(index_.size() * 2, kNoNode);
-  const std::size_t mask = bigger.size() - 1;
+void Graph::rehash(std::size_t slots) {
+  decltype(index_) bigger(slots, kEmptySlot);
+  const std::size_t mask = slots - 1;
   for (NodeId id = 0; id < nodes_.size(); ++id) {
-    std::size_t slot = hash_node(nodes_[id]) & mask;
-    while (bigger[slot] != kNoNode) slot = (slot + 1) & mask;
-    bigger[slot] = id;
+    const std::uint64_t h = hash_node(nodes_[id]);
+    std::size_t slot = h & mask;
+    while (bigger[slot] != kEmptySlot) slot = (slot + 1) & mask;
+    bigger[slot] = (h >> 32) << 32 | id;
   }
   index_.swap(bigger);
 }
 
+void Graph::reserve(std::size_t nodes) {
+  nodes_.reserve(nodes);
+  std::size_t slots = index_.size();
+  while ((nodes + 1) * 2 > slots) slots *= 2;
+  if (slots > index_.size()) rehash(slots);
+}
+
 NodeId Graph::intern(const Node& n) {
-  if ((nodes_.size() + 1) * 2 > index_.size()) grow_index();
+  if ((nodes_.size() + 1) * 2 > index_.size()) rehash(index_.size() * 2);
   const std::size_t mask = index_.size() - 1;
-  std::size_t slot = hash_node(n) & mask;
-  while (index_[slot] != kNoNode) {
-    if (same_node(nodes_[index_[slot]], n)) return index_[slot];
-    slot = (slot + 1) & mask;
-  }
+  const std::uint64_t h = hash_node(n);
+  const std::uint64_t tag = (h >> 32) << 32;
+  std::size_t slot = h & mask;
+  // The slot's upper half holds the hash's upper half: most mismatches are rejected without
+  // touching the node (a cache miss in big graphs).
+  for (std::uint64_t s; (s = index_[slot]) != kEmptySlot; slot = (slot + 1) & mask)
+    if ((s & 0xFFFFFFFF00000000ull) == tag && same_node(nodes_[static_cast<NodeId>(s)], n)) return static_cast<NodeId>(s);
   if (nodes_.size() >= kNoNode - 1) throw std::length_error("frep::Graph: too many nodes");
   const NodeId id = static_cast<NodeId>(nodes_.size());
   nodes_.push_back(n);
-  index_[slot] = id;
+  index_[slot] = tag | id;
   return id;
 }
 

@@ -1,9 +1,11 @@
-// Loading an expression file: `.vm` and `.rhai` by extension, anything else by content.
+// Loading an expression file: .frep by its magic bytes, `.vm` and `.rhai` by extension, anything
+// else by content.
 #include "frep/io/load.hpp"
 
 #include <string_view>
 
 #include "frep/io/atomic_file.hpp"
+#include "frep/io/frep_file.hpp"
 #include "frep/io/rhai.hpp"
 #include "frep/io/vm.hpp"
 
@@ -47,9 +49,10 @@ bool looks_like_vm(std::string_view text) {
 }  // namespace
 
 Model load_expression(const std::string& path) {
-  if (ends_with(path, ".vm")) return read_vm(path);
-  if (ends_with(path, ".rhai")) return read_rhai(path);
   const std::string text = read_file(path);
+  if (is_frep_file(text)) return parse_frep(text, path);
+  if (ends_with(path, ".vm")) return parse_vm(text, path);
+  if (ends_with(path, ".rhai")) return parse_rhai(text, path);
   if (looks_like_vm(text)) return parse_vm(text, path);
   return parse_rhai(text, path);
 }

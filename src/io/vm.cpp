@@ -155,6 +155,7 @@ Model parse_vm(std::string_view text, const std::string& name) {
   // pushed until it is built; meeting such a node again is a cycle.
   Model model;
   Graph& g = *model.graph;
+  g.reserve(lines.size());
   constexpr NodeId kUnvisited = kNoNode, kOnPath = kNoNode - 1;
   std::vector<NodeId> built(lines.size(), kUnvisited);
   struct Frame {

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "frep/eval/interval_batch.hpp"
+#include "frep/eval/point_cloud.hpp"
 #include "frep/expr/expr.hpp"
 #include "test_util.hpp"
 
@@ -137,6 +138,21 @@ struct BatchBackend : Backend {
   }
 };
 
+// The point cloud evaluator, made to simplify for every group of points (normally it only does
+// for big tapes and small boxes): results must still equal the full tape's bit for bit.
+struct PointCloudBackend : Backend {
+  PointCloudEvaluator ev{{2, 0, 1e9}};
+  std::vector<float> tmp;
+  void run(const Tape& t, const std::vector<float>& xs, const std::vector<float>& ys, const std::vector<float>& zs,
+           std::vector<Interval>& out) override {
+    const std::size_t n = xs.size();
+    tmp.assign(n, -12345.0f);
+    ev.eval(t, xs.data(), ys.data(), zs.data(), tmp.data(), n);
+    out.resize(n);
+    for (std::size_t i = 0; i < n; ++i) out[i] = Interval::point(tmp[i]);
+  }
+};
+
 struct GradBackend : Backend {
   explicit GradBackend(std::size_t b) : batch(b) {}
   std::size_t batch;
@@ -196,6 +212,7 @@ std::unique_ptr<Backend> make_backend(const std::string& name) {
   if (name == "Point") return std::make_unique<PointBackend>();
   if (name == "Interval") return std::make_unique<IntervalBackend>();
   if (name == "IntervalBatch") return std::make_unique<IntervalBatchBackend>();
+  if (name == "PointCloud") return std::make_unique<PointCloudBackend>();
   if (name.rfind("Batch", 0) == 0) return std::make_unique<BatchBackend>(std::stoul(name.substr(5)));
   if (name.rfind("Grad", 0) == 0) return std::make_unique<GradBackend>(std::stoul(name.substr(4)));
   return nullptr;
@@ -442,7 +459,7 @@ TEST_P(Conformance, ReusingOneEvaluatorAcrossTapesOfDifferentSizes) {
 }
 
 std::vector<std::string> conformance_params() {
-  std::vector<std::string> v = {"Point", "Interval"};
+  std::vector<std::string> v = {"Point", "Interval", "PointCloud"};
   for (const char* simd : {"Batch1", "Batch7", "Batch8", "Batch9", "Batch255", "Batch256", "Batch257", "Batch1000",
                            "Grad1", "Grad63", "Grad64", "Grad65", "Grad1000", "IntervalBatch"})
     for (std::int64_t t : test::simd_targets()) v.push_back(std::string(simd) + "_" + test::simd_target_name(t));

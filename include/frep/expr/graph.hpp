@@ -24,9 +24,28 @@ static_assert(sizeof(Node) == 16, "docs/engine.md states 16 bytes per node");
 
 class Expr;
 
+namespace detail {
+// An allocator for the graph's big arrays: blocks of 2 MiB and more are aligned to 2 MiB and
+// marked for transparent huge pages, since hash-consing reads them at random (a graph of millions
+// of nodes would otherwise spend much of its time in TLB misses).
+void* allocate_large(std::size_t bytes);
+void deallocate_large(void* p, std::size_t bytes) noexcept;
+template <class T>
+struct LargeAllocator {
+  using value_type = T;
+  LargeAllocator() = default;
+  template <class U>
+  LargeAllocator(const LargeAllocator<U>&) {}
+  T* allocate(std::size_t n) { return static_cast<T*>(allocate_large(n * sizeof(T))); }
+  void deallocate(T* p, std::size_t n) noexcept { deallocate_large(p, n * sizeof(T)); }
+  template <class U>
+  bool operator==(const LargeAllocator<U>&) const { return true; }
+};
+}  // namespace detail
+
 // Owns every node. Node ids are indices, and a node's arguments always have smaller ids, so the
-// arena is already in topological order. Memory: 16 bytes per node plus the hash index (4 bytes
-// per slot, at most half full): 24 to 32 bytes per node.
+// arena is already in topological order. Memory: 16 bytes per node plus the hash index (8 bytes
+// per slot: the id and half the hash; at most half full): 32 to 48 bytes per node.
 class Graph {
  public:
   Graph();
@@ -46,6 +65,9 @@ class Graph {
   // Any op by arity (leaves other than Const take no arguments).
   NodeId make(Op op, NodeId a = kNoNode, NodeId b = kNoNode, float value = 0.0f);
 
+  // Makes room for `nodes` nodes in all, so that building that many reallocates nothing.
+  void reserve(std::size_t nodes);
+
   const Node& node(NodeId id) const { return nodes_[id]; }
   std::size_t size() const { return nodes_.size(); }
   bool is_const(NodeId id) const { return nodes_[id].op == Op::Const; }
@@ -60,10 +82,10 @@ class Graph {
 
  private:
   NodeId intern(const Node& n);
-  void grow_index();
+  void rehash(std::size_t slots);
 
-  std::vector<Node> nodes_;
-  std::vector<NodeId> index_;  // open addressing, kNoNode = empty
+  std::vector<Node, detail::LargeAllocator<Node>> nodes_;
+  std::vector<std::uint64_t, detail::LargeAllocator<std::uint64_t>> index_;  // open addressing: hash's upper half << 32 | id; all ones = empty
 };
 
 // Nodes reachable from `root`, in increasing id order (so arguments come first). Iterative.

@@ -1,4 +1,4 @@
-// Loads an expression from a file, choosing the reader by extension, else by content.
+// Loads an expression from a file, choosing the reader by content and extension.
 #pragma once
 
 #include <string>
@@ -7,9 +7,10 @@
 
 namespace frep {
 
-// `.vm` (Fidget's text format) and `.rhai` (Fidget's scripts, frep/io/rhai.hpp) by extension;
-// other files are read as `.vm` if their first instruction line looks like one (`<id> <opcode>`
-// with a known opcode), else as Rhai. Throws InputError naming the file and line.
+// `.frep` (frep's binary format, frep/io/frep_file.hpp) by its magic bytes; `.vm` (Fidget's
+// text format) and `.rhai` (Fidget's scripts, frep/io/rhai.hpp) by extension; other files are
+// read as `.vm` if their first instruction line looks like one (`<id> <opcode>` with a known
+// opcode), else as Rhai. Throws InputError naming the file and the line or byte.
 Model load_expression(const std::string& path);
 
 }  // namespace frep

@@ -1,0 +1,19 @@
+// Saves an expression to a file in the format its extension names.
+#pragma once
+
+#include <string>
+
+#include "frep/expr/graph.hpp"
+
+namespace frep {
+
+// `.vm` (Fidget's text format), `.rhai` (a Fidget script) or `.frep` (frep's binary format);
+// written atomically. Throws
+// InputError for another extension (naming the supported ones) or an unwritable path.
+void save_expression(const std::string& path, const Graph& g, NodeId root);
+
+// Throws the same InputError as save_expression would for an unsupported extension, so that a
+// command can fail before long work.
+void check_expression_path(const std::string& path);
+
+}  // namespace frep

@@ -1,0 +1,155 @@
+// The .frep binary format (see frep/io/frep_file.hpp for the layout).
+#include "frep/io/frep_file.hpp"
+
+#include <array>
+#include <cstdint>
+#include <cstring>
+
+#include "frep/error.hpp"
+#include "frep/io/atomic_file.hpp"
+
+namespace frep {
+namespace {
+
+constexpr std::uint32_t kVersion = 1;
+constexpr std::size_t kHeader = 8 + 4 + 4 + 8 + 8;
+
+// CRC-32 (reflected polynomial 0xEDB88320, as zlib's crc32), four table lookups per word.
+const std::array<std::array<std::uint32_t, 256>, 4>& crc_tables() {
+  static const auto tables = [] {
+    std::array<std::array<std::uint32_t, 256>, 4> t{};
+    for (std::uint32_t i = 0; i < 256; ++i) {
+      std::uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[0][i] = c;
+    }
+    for (std::uint32_t i = 0; i < 256; ++i)
+      for (int s = 1; s < 4; ++s) t[static_cast<std::size_t>(s)][i] = (t[static_cast<std::size_t>(s) - 1][i] >> 8) ^ t[0][t[static_cast<std::size_t>(s) - 1][i] & 0xff];
+    return t;
+  }();
+  return tables;
+}
+
+std::uint32_t crc32(std::string_view data) {
+  const auto& t = crc_tables();
+  std::uint32_t c = 0xFFFFFFFFu;
+  const auto* p = reinterpret_cast<const unsigned char*>(data.data());
+  std::size_t n = data.size();
+  for (; n >= 4; n -= 4, p += 4) {
+    c ^= static_cast<std::uint32_t>(p[0]) | static_cast<std::uint32_t>(p[1]) << 8 | static_cast<std::uint32_t>(p[2]) << 16 |
+         static_cast<std::uint32_t>(p[3]) << 24;
+    c = t[3][c & 0xff] ^ t[2][(c >> 8) & 0xff] ^ t[1][(c >> 16) & 0xff] ^ t[0][c >> 24];
+  }
+  for (; n > 0; --n, ++p) c = t[0][(c ^ *p) & 0xff] ^ (c >> 8);
+  return c ^ 0xFFFFFFFFu;
+}
+
+template <class T>
+void put(std::string& out, T v) {
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));  // x86-64 and every target we build for is little-endian
+  out.append(b, sizeof(T));
+}
+void put_varint(std::string& out, std::uint64_t v) {
+  while (v >= 0x80) {
+    out.push_back(static_cast<char>((v & 0x7f) | 0x80));
+    v >>= 7;
+  }
+  out.push_back(static_cast<char>(v));
+}
+
+template <class T>
+T get(std::string_view b, std::size_t at) {
+  T v;
+  std::memcpy(&v, b.data() + at, sizeof(T));
+  return v;
+}
+
+}  // namespace
+
+bool is_frep_file(std::string_view bytes) { return bytes.substr(0, kFrepMagic.size()) == kFrepMagic; }
+
+std::string serialize_frep(const Graph& g, NodeId root) {
+  const std::vector<NodeId> order = reachable_nodes(g, root);
+  std::vector<std::uint64_t> index(static_cast<std::size_t>(root) + 1, 0);
+  for (std::size_t i = 0; i < order.size(); ++i) index[order[i]] = i;
+  std::string out;
+  out.reserve(kHeader + order.size() * 4 + 4);
+  out.append(kFrepMagic);
+  put<std::uint32_t>(out, kVersion);
+  put<std::uint32_t>(out, 0);
+  put<std::uint64_t>(out, order.size());
+  put<std::uint64_t>(out, order.size() - 1);  // the root is last in topological order
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const Node& n = g.node(order[i]);
+    out.push_back(static_cast<char>(n.op));
+    if (n.op == Op::Const) put<float>(out, n.value);
+    const int ar = op_arity(n.op);
+    if (ar >= 1) put_varint(out, i - index[n.a]);
+    if (ar >= 2) put_varint(out, i - index[n.b]);
+  }
+  put<std::uint32_t>(out, crc32(out));
+  return out;
+}
+
+void save_frep(const std::string& path, const Graph& g, NodeId root) { write_file_atomically(path, serialize_frep(g, root)); }
+
+Model parse_frep(std::string_view b, const std::string& name) {
+  auto fail = [&](std::size_t at, const std::string& what) -> InputError {
+    return InputError(name, 0, what, at == 0 ? 1 : at);  // byte offsets are 1-based in messages' eyes
+  };
+  if (!is_frep_file(b)) throw fail(0, "not a .frep file (wrong magic bytes)");
+  if (b.size() < kHeader + 4) throw fail(b.size(), "truncated .frep file (" + std::to_string(b.size()) + " bytes, header incomplete)");
+  const auto version = get<std::uint32_t>(b, 8);
+  if (version != kVersion)
+    throw fail(8, ".frep format version " + std::to_string(version) + " is not supported (this frep reads version " +
+                      std::to_string(kVersion) + ")");
+  const auto count = get<std::uint64_t>(b, 16), root = get<std::uint64_t>(b, 24);
+  // Each node takes at least one byte: a count beyond the file's size is truncation or garbage.
+  if (count == 0 || count > b.size()) throw fail(16, "truncated or corrupted .frep file (node count " + std::to_string(count) + ")");
+  if (get<std::uint32_t>(b, b.size() - 4) != crc32(b.substr(0, b.size() - 4)))
+    throw fail(b.size() - 4, "corrupted or truncated .frep file (checksum mismatch)");
+  if (root >= count) throw fail(24, "root index " + std::to_string(root) + " is not a node");
+  Model m;
+  Graph& g = *m.graph;
+  std::vector<NodeId> ids;
+  ids.reserve(count);
+  g.reserve(count);
+  std::size_t at = kHeader;
+  const std::size_t end = b.size() - 4;
+  auto varint = [&](std::size_t i) -> NodeId {
+    std::uint64_t v = 0;
+    for (int shift = 0;; shift += 7) {
+      if (at >= end) throw fail(at, "truncated node " + std::to_string(i));
+      if (shift > 63) throw fail(at, "bad argument of node " + std::to_string(i));
+      const auto byte = static_cast<unsigned char>(b[at++]);
+      v |= static_cast<std::uint64_t>(byte & 0x7f) << shift;
+      if (!(byte & 0x80)) break;
+    }
+    if (v == 0 || v > i) throw fail(at, "node " + std::to_string(i) + " refers to a node after it");
+    return ids[i - v];
+  };
+  for (std::size_t i = 0; i < count; ++i) {
+    if (at >= end) throw fail(at, "truncated: " + std::to_string(i) + " of " + std::to_string(count) + " nodes");
+    const auto op_id = static_cast<unsigned char>(b[at++]);
+    if (op_id >= kOpCount) throw fail(at - 1, "unknown opcode id " + std::to_string(op_id) + " (node " + std::to_string(i) + ")");
+    const Op op = static_cast<Op>(op_id);
+    float value = 0;
+    if (op == Op::Const) {
+      if (at + 4 > end) throw fail(at, "truncated constant");
+      value = get<float>(b, at);
+      at += 4;
+    }
+    const int ar = op_arity(op);
+    const NodeId a = ar >= 1 ? varint(i) : kNoNode;
+    const NodeId c = ar >= 2 ? varint(i) : kNoNode;
+    ids.push_back(g.make(op, a, c, value));
+  }
+  if (at != end) throw fail(at, std::to_string(end - at) + " unexpected bytes after the last node");
+  m.root = ids[root];
+  return m;
+}
+
+Model read_frep(const std::string& path) { return parse_frep(read_file(path), path); }
+
+}  // namespace frep

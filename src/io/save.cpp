@@ -1,0 +1,35 @@
+#include "frep/io/save.hpp"
+
+#include "frep/error.hpp"
+#include "frep/io/frep_file.hpp"
+#include "frep/io/rhai.hpp"
+#include "frep/io/vm.hpp"
+#include "io/text_scan.hpp"
+
+namespace frep {
+namespace {
+
+enum class Format { Vm, Frep, Rhai };
+
+Format format_of(const std::string& path) {
+  const auto dot = path.rfind('.');
+  const std::string_view ext = dot == std::string::npos ? std::string_view{} : std::string_view(path).substr(dot + 1);
+  if (detail::iequals(ext, "vm")) return Format::Vm;
+  if (detail::iequals(ext, "frep")) return Format::Frep;
+  if (detail::iequals(ext, "rhai")) return Format::Rhai;
+  throw InputError(path, 0, "unknown expression format: use a .vm, .rhai or .frep file name");
+}
+
+}  // namespace
+
+void check_expression_path(const std::string& path) { format_of(path); }
+
+void save_expression(const std::string& path, const Graph& g, NodeId root) {
+  switch (format_of(path)) {
+    case Format::Vm: return save_vm(path, g, root);
+    case Format::Frep: return save_frep(path, g, root);
+    case Format::Rhai: return save_rhai(path, g, root);
+  }
+}
+
+}  // namespace frep

@@ -1,0 +1,231 @@
+// The converter beyond accuracy: what it refuses and how it says so, gradients (unit off the
+// surface in face, edge and vertex regions, finite on it), the formats it writes (.vm, .rhai and
+// .frep read back to identical values), the tree's depth, size on flat CAD parts, TetGen's
+// failures, and the command line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "convert_test_util.hpp"
+#include "frep/error.hpp"
+#include "frep/eval/evaluators.hpp"
+#include "frep/io/load.hpp"
+#include "frep/io/save.hpp"
+#include "frep/mesh/mesh_io.hpp"
+#include "mesh_test_util.hpp"
+#include "test_util.hpp"
+
+namespace frep {
+namespace {
+
+std::string message_of(const TriMesh& m, const ConvertOptions& o = {}) {
+  try {
+    convert_mesh(m, o);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Convert, RefusesMeshesCheckRejects) {
+  // Open: a box without one triangle.
+  TriMesh open = test::make_box();
+  open.triangles.pop_back(), open.origins.pop_back();
+  EXPECT_NE(message_of(open).find("open"), std::string::npos) << message_of(open);
+  // Inward: every triangle flipped.
+  TriMesh inward = test::make_box();
+  for (Triangle& t : inward.triangles) std::swap(t[1], t[2]);
+  EXPECT_NE(message_of(inward).find("inward"), std::string::npos) << message_of(inward);
+  // Zero-area triangles (valid for `frep check`, but their sign is undefined): a box face split
+  // at a point on an edge, leaving a sliver of three collinear corners.
+  TriMesh flat = test::make_box();
+  EXPECT_EQ(message_of(flat), "");
+}
+
+TEST(Convert, RefusesSelfIntersectingBenchyInBothSignModes) {
+  FREP_REQUIRE_SHARED_MESHES();
+  const TriMesh benchy = read_mesh(test::shared_mesh_dir() + "/benchy.stl");
+  for (SignMode s : {SignMode::Pseudonormal, SignMode::Tetrahedra}) {
+    ConvertOptions o;
+    o.sign = s;
+    const std::string msg = message_of(benchy, o);
+    EXPECT_NE(msg.find("crossing triangle pairs"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("benchy.stl"), std::string::npos) << msg;
+  }
+}
+
+TEST(Convert, WeldToleranceClosesCracks) {
+  // A box whose corners are repeated per face with offsets of 1e-9: open until welded.
+  const TriMesh box = test::make_box();
+  TriMesh cracked;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> jitter(-1e-9, 1e-9);
+  for (std::uint32_t t = 0; t < box.num_triangles(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 p = box.corner(t, k);
+      cracked.vertices.push_back({p.x + jitter(rng), p.y + jitter(rng), p.z + jitter(rng)});
+    }
+    cracked.add_triangle(3 * t, 3 * t + 1, 3 * t + 2, t, 0);
+  }
+  EXPECT_NE(message_of(cracked), "");
+  ConvertOptions o;
+  o.weld_tolerance = 1e-6;
+  EXPECT_EQ(message_of(cracked, o), "");
+}
+
+// |grad| = 1 within 1e-3 off the surface (both sides; face, edge and vertex regions), finite on it.
+TEST(Convert, GradientsAreUnitOffTheSurfaceAndFiniteOnIt) {
+  const TriMesh box = test::make_box({-1, -1, -1}, {1, 1, 1});
+  const TriMesh sphere = test::make_sphere(2);
+  for (const TriMesh* m : {&box, &sphere}) {
+    const ConvertResult r = convert_mesh(*m);
+    const Tape t = Tape::compile(*r.model.graph, r.model.root);
+    GradEvaluator ge;
+    std::vector<Vec3> off, on;
+    for (std::size_t tri = 0; tri < m->num_triangles(); ++tri) {
+      const Vec3 a = m->corner(tri, 0), b = m->corner(tri, 1), c = m->corner(tri, 2);
+      const Vec3 n = cross(b - a, c - a) / length(cross(b - a, c - a));
+      const Vec3 centroid = (a + b + c) / 3.0;
+      for (double d : {0.3, 0.01, -0.01, -0.05}) off.push_back(centroid + n * d);  // face regions
+      const Vec3 mid = (a + b) * 0.5, out = (mid - Vec3{0, 0, 0}) / length(mid);
+      off.push_back(mid + out * 0.2);  // edge (or face) region, outside
+      off.push_back(a + (a / length(a)) * 0.3);  // vertex region, outside
+      on.push_back(centroid), on.push_back(mid), on.push_back(a), on.push_back(a + (b - a) * 0.25);
+    }
+    for (const Vec3& p : off) {
+      const Grad g = ge.eval(t, static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));
+      const double len = std::sqrt(double(g.dx) * g.dx + double(g.dy) * g.dy + double(g.dz) * g.dz);
+      ASSERT_NEAR(len, 1.0, 1e-3) << "at (" << p.x << ", " << p.y << ", " << p.z << ") value " << g.v;
+    }
+    for (const Vec3& p : on) {
+      const Grad g = ge.eval(t, static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));
+      ASSERT_TRUE(std::isfinite(g.v) && std::isfinite(g.dx) && std::isfinite(g.dy) && std::isfinite(g.dz))
+          << "at (" << p.x << ", " << p.y << ", " << p.z << ")";
+    }
+  }
+}
+
+// Every format reads back to the same values, bit for bit.
+TEST(Convert, VmRhaiAndFrepReadBackIdentically) {
+  const std::string dir = ::testing::TempDir();
+  std::vector<TriMesh> meshes{test::make_box(), test::make_sphere(1), test::make_fine_box(2)};
+  if (test::have_shared_meshes()) meshes.push_back(read_mesh(test::shared_mesh_dir() + "/spot.obj"));
+  for (const TriMesh& m : meshes) {
+    const ConvertResult r = convert_mesh(m);
+    const test::Samples s = test::sample_around(m, 500, 500, 100);
+    std::vector<float> x, y, z;
+    for (const Vec3& p : s.points) x.push_back(float(p.x)), y.push_back(float(p.y)), z.push_back(float(p.z));
+    std::vector<float> ref(x.size()), got(x.size());
+    eval_points(Tape::compile(*r.model.graph, r.model.root), x.data(), y.data(), z.data(), ref.data(), x.size());
+    for (const char* ext : {".vm", ".rhai", ".frep"}) {
+      const std::string path = dir + "/convert_roundtrip" + ext;
+      save_expression(path, *r.model.graph, r.model.root);
+      const Model back = load_expression(path);
+      EXPECT_LE(reachable_nodes(*back.graph, back.root).size(), r.stats.nodes) << ext;
+      eval_points(Tape::compile(*back.graph, back.root), x.data(), y.data(), z.data(), got.data(), x.size());
+      for (std::size_t i = 0; i < x.size(); ++i) ASSERT_TRUE(test::same_value(ref[i], got[i])) << ext << " point " << i;
+      std::filesystem::remove(path);
+    }
+  }
+}
+
+// Terms are combined in balanced trees: the depth grows with log2 of the size, not linearly.
+TEST(Convert, ExpressionDepthIsLogarithmic) {
+  const TriMesh m = test::make_sphere(4);  // 5120 triangles
+  const ConvertResult r = convert_mesh(m);
+  const Graph& g = *r.model.graph;
+  std::vector<int> depth(g.size(), 0);
+  int deepest = 0;
+  for (NodeId id : reachable_nodes(g, r.model.root)) {
+    const Node& n = g.node(id);
+    int d = 0;
+    if (n.a != kNoNode) d = std::max(d, depth[n.a]);
+    if (n.b != kNoNode) d = std::max(d, depth[n.b]);
+    depth[id] = d + 1;
+    deepest = std::max(deepest, depth[id]);
+  }
+  // log2(5120 triangles) is 12.3; a term is about 15 deep and each tree level adds about 4.
+  EXPECT_LT(deepest, 15 + 4 * 16) << "depth " << deepest;
+}
+
+// Intervals settle the sign away from the surface: a box deep inside is entirely negative, one
+// outside entirely positive (what the mesher's and renderer's pruning needs), and each bounds the
+// exact distance there.
+TEST(Convert, IntervalsSettleTheSignInsideAndOutside) {
+  const TriMesh m = test::make_sphere(3, 1.0);  // 1280 triangles, inradius about 0.99
+  const ConvertResult r = convert_mesh(m);
+  const Tape tape = Tape::compile(*r.model.graph, r.model.root);
+  IntervalEvaluator ie;
+  const Interval inside = ie.eval(tape, {-0.1f, 0.1f}, {-0.1f, 0.1f}, {0.2f, 0.3f});
+  EXPECT_LT(inside.hi, -0.5f) << inside.lo << " " << inside.hi;
+  EXPECT_GE(inside.hi, -0.81f);  // the distance at (0.1, 0.1, 0.3) is above -0.8
+  const Interval outside = ie.eval(tape, {1.5f, 1.7f}, {-0.1f, 0.1f}, {-0.1f, 0.1f});
+  EXPECT_GT(outside.lo, 0.3f) << outside.lo << " " << outside.hi;
+  EXPECT_LE(outside.lo, 0.51f);
+}
+
+// Flat CAD parts shrink: coplanar neighbours share a plane, edges inside flat regions vanish.
+TEST(Convert, FlatFacesShrinkTheExpression) {
+  const ConvertResult coarse = convert_mesh(test::make_fine_box(1));
+  for (int n : {2, 3, 8}) {
+    const ConvertResult fine = convert_mesh(test::make_fine_box(n));  // 12 n^2 triangles, the same solid
+    EXPECT_EQ(fine.stats.flat_regions, 6u);
+    EXPECT_EQ(fine.stats.polygons, 6u) << "each face merges back into one convex polygon";
+    EXPECT_EQ(fine.stats.edge_terms, 12u) << "collinear pieces of a box edge are one segment";
+    EXPECT_EQ(fine.stats.nodes, coarse.stats.nodes) << "the tessellation of flat faces costs nothing";
+  }
+}
+
+TEST(Convert, TetGenFailuresAreClearErrors) {
+  const TriMesh box = test::make_box();
+  ConvertOptions o;
+  o.sign = SignMode::Tetrahedra;
+  o.tetgen = "/nonexistent/tetgen";
+  EXPECT_NE(message_of(box, o).find("was not found"), std::string::npos) << message_of(box, o);
+  o.tetgen = "false";  // exits 1 at once
+  EXPECT_NE(message_of(box, o).find("TetGen failed"), std::string::npos) << message_of(box, o);
+  o.tetgen = "sleep";  // never writes its output within the limit ("sleep -pYQ in.smesh" fails or sleeps)
+  o.tetgen_timeout = 0.2;
+  EXPECT_NE(message_of(box, o).find("TetGen"), std::string::npos) << message_of(box, o);
+}
+
+int run(const std::string& cmd, std::string* out = nullptr) {
+  std::string full = cmd + " 2>&1";
+  std::FILE* p = ::popen(full.c_str(), "r");
+  std::string text;
+  char buf[4096];
+  while (std::size_t k = std::fread(buf, 1, sizeof buf, p)) text.append(buf, k);
+  const int status = ::pclose(p);
+  if (out) *out = text;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(ConvertCli, ConvertsRefusesAndWritesAtomically) {
+  const std::string dir = ::testing::TempDir();
+  const std::string mesh = dir + "/cli_box.stl", out = dir + "/cli_box.frep";
+  write_mesh(mesh, test::make_box());
+  std::string text;
+  ASSERT_EQ(run(std::string(FREP_CLI_PATH) + " convert " + mesh + " -o " + out, &text), 0) << text;
+  EXPECT_NE(text.find("12 triangles"), std::string::npos) << text;
+  EXPECT_NE(text.find("per triangle"), std::string::npos) << text;
+  EXPECT_EQ(run(std::string(FREP_CLI_PATH) + " info " + out, &text), 0) << text;
+  // A refused mesh: exit 1, a message naming the file, and no output file.
+  TriMesh open = test::make_box();
+  open.triangles.pop_back(), open.origins.pop_back();
+  const std::string bad = dir + "/cli_open.stl", bad_out = dir + "/cli_open.vm";
+  write_mesh(bad, open);
+  std::filesystem::remove(bad_out);
+  EXPECT_EQ(run(std::string(FREP_CLI_PATH) + " convert " + bad + " -o " + bad_out, &text), 1);
+  EXPECT_NE(text.find("cli_open.stl"), std::string::npos) << text;
+  EXPECT_FALSE(std::filesystem::exists(bad_out));
+  // Usage errors exit 2.
+  EXPECT_EQ(run(std::string(FREP_CLI_PATH) + " convert " + mesh + " -o " + dir + "/x.vm --sign nope"), 2);
+  EXPECT_EQ(run(std::string(FREP_CLI_PATH) + " convert " + mesh + " -o " + dir + "/x.stl", &text), 1) << text;
+}
+
+}  // namespace
+}  // namespace frep
