@@ -24,6 +24,7 @@ void register_eval(CLI::App& app);
 void register_render(CLI::App& app);
 void register_check(CLI::App& app);
 void register_sdf(CLI::App& app);
+void register_mesh(CLI::App& app);
 
 inline void register_commands(CLI::App& app) {
   register_info(app);
@@ -31,6 +32,7 @@ inline void register_commands(CLI::App& app) {
   register_render(app);
   register_check(app);
   register_sdf(app);
+  register_mesh(app);
 }
 
 }  // namespace frep::cli
