@@ -21,7 +21,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numbers>
 
 #include "frep/contour/cell_topology.hpp"
 #include "frep/error.hpp"
@@ -165,11 +164,20 @@ TriMesh assemble(const std::vector<LeafRecord*>& leaves, const MeshGrid& grid, i
     bool operator<(const RouteKey& o) const { return e0 != o.e0 ? e0 < o.e0 : e1 < o.e1; }
     bool operator==(const RouteKey& o) const { return e0 == o.e0 && e1 == o.e1; }
   };
-  std::vector<std::vector<Poly>> leaf_polys(leaves.size());
+  // One polygon per crossing edge a cell owns: counted first, so that every leaf writes its
+  // polygons straight into its slice of one array.
+  std::vector<std::size_t> poly_first(leaves.size() + 1, 0);
+  for (std::size_t li = 0; li < leaves.size(); ++li) {
+    std::size_t n = 0;
+    for (const SurfaceCell& c : leaves[li]->cells)
+      for (float t : c.t) n += !std::isnan(t);
+    poly_first[li + 1] = poly_first[li] + n;
+  }
+  std::vector<Poly> polys(poly_first.back());
   std::vector<std::vector<RouteKey>> leaf_routes(leaves.size());
   pool.parallel_for(static_cast<int>(leaves.size()), [&](int, int li) {
     const LeafRecord& R = *leaves[static_cast<std::size_t>(li)];
-    std::vector<Poly>& polys = leaf_polys[static_cast<std::size_t>(li)];
+    Poly* out = polys.data() + poly_first[static_cast<std::size_t>(li)];
     std::vector<RouteKey>& routes = leaf_routes[static_cast<std::size_t>(li)];
     // The leaf and its lower neighbours: nb[dz][dy][dx] for offsets -1 (index 0) and 0 (index 1).
     const LeafRecord* nb[2][2][2];
@@ -274,9 +282,10 @@ TriMesh assemble(const std::vector<LeafRecord*>& leaves, const MeshGrid& grid, i
               const bool use_a = (fa > 0) != (fb > 0) ? fa > 0 : deviation(0, 2) <= deviation(1, 3);
               p.mode = use_a ? Poly::SplitA : Poly::SplitB;
             }
-            polys.push_back(p);
+            *out++ = p;
           }
         }
+    FREP_ASSERT(out == polys.data() + poly_first[static_cast<std::size_t>(li) + 1], "polygon count");
   });
 
   // Face points: one vertex per key, numbered after the dual vertices in key order.
@@ -288,18 +297,18 @@ TriMesh assemble(const std::vector<LeafRecord*>& leaves, const MeshGrid& grid, i
   std::vector<Vec3> route_pos(keys_all.size());
   for (std::size_t i = 0; i < keys_all.size(); ++i)
     route_pos[i] = (edge_midpoint(grid, keys_all[i].e0) + edge_midpoint(grid, keys_all[i].e1)) * 0.5;
-  std::vector<Poly> polys;
-  for (std::size_t li = 0; li < leaves.size(); ++li) {
-    for (Poly& p : leaf_polys[li]) {
-      for (int i = 0; i < p.n; ++i)
-        if (p.v[i] & kRouted) {
-          const RouteKey& k = leaf_routes[li][p.v[i] & ~kRouted];
-          p.v[i] = nv + static_cast<std::uint32_t>(std::lower_bound(keys_all.begin(), keys_all.end(), k) - keys_all.begin());
-        }
-      polys.push_back(p);
+  if (!keys_all.empty())
+    for (std::size_t li = 0; li < leaves.size(); ++li) {
+      if (leaf_routes[li].empty()) continue;
+      for (std::size_t pi = poly_first[li]; pi < poly_first[li + 1]; ++pi) {
+        Poly& p = polys[pi];
+        for (int i = 0; i < p.n; ++i)
+          if (p.v[i] & kRouted) {
+            const RouteKey& k = leaf_routes[li][p.v[i] & ~kRouted];
+            p.v[i] = nv + static_cast<std::uint32_t>(std::lower_bound(keys_all.begin(), keys_all.end(), k) - keys_all.begin());
+          }
+      }
     }
-    std::vector<Poly>().swap(leaf_polys[li]);
-  }
   auto position = [&](std::uint32_t id) -> const Vec3& { return id < nv ? pos[id] : route_pos[id - nv]; };
 
   // Vertex -> polygons (CSR).
@@ -318,6 +327,20 @@ TriMesh assemble(const std::vector<LeafRecord*>& leaves, const MeshGrid& grid, i
 
   // Star check: does the fan of triangles around v project, onto the plane of their summed
   // normal, as wedges that all turn the same way and go round exactly once?
+  // Do the triangles about their first corner, projected to 2D by `proj`, turn the same way
+  // (counter-clockwise, each by less than half a turn) and go round exactly once? The turns are
+  // counted as the triangles that cross the ray along +x from below.
+  auto fan_winds_once = [](const auto& tris, auto&& proj) {
+    int crossings = 0;
+    for (const auto& t : tris) {
+      const auto [ax, ay] = proj(t.p[1] - t.p[0]);
+      const auto [bx, by] = proj(t.p[2] - t.p[0]);
+      if (!(ax * by - ay * bx > 0)) return false;
+      crossings += ay < 0 && by >= 0;
+    }
+    return crossings == 1;
+  };
+
   // Star check. The quick test: the triangles at v, projected onto the plane of their summed
   // normal, are wedges that all turn the same way and go round exactly once (then no two of them
   // meet but along their shared edges). Stars it cannot vouch for (a cone over a saddle-shaped
@@ -340,26 +363,17 @@ TriMesh assemble(const std::vector<LeafRecord*>& leaves, const MeshGrid& grid, i
         tris.push_back({{r[0], r[1], r[2]}, {at(r[0]), at(r[1]), at(r[2])}});
       });
     }
-    Vec3 nsum;
-    for (const StarTri& t : tris) nsum += unit(cross(t.p[1] - t.p[0], t.p[2] - t.p[0]));
-    const Vec3 n = unit(nsum);
-    if (n != Vec3{}) {
+    // Projected along the vertex's normal (from its crossings), else along the triangles' mean.
+    auto winds_along = [&](const Vec3& n) {
+      if (n == Vec3{}) return false;
       const Vec3 u = unit(std::fabs(n.x) < 0.9 ? cross(n, Vec3{1, 0, 0}) : cross(n, Vec3{0, 1, 0}));
       const Vec3 w = cross(n, u);
-      double total = 0;
-      bool turning = true;
-      for (const StarTri& t : tris) {
-        const Vec3 a = t.p[1] - t.p[0], b = t.p[2] - t.p[0];
-        const double ax = dot(a, u), ay = dot(a, w), bx = dot(b, u), by = dot(b, w);
-        const double ang = std::atan2(ax * by - ay * bx, ax * bx + ay * by);
-        if (!(ang > 1e-9)) {
-          turning = false;
-          break;
-        }
-        total += ang;
-      }
-      if (turning && std::fabs(total - 2 * std::numbers::pi) < 1e-6) return true;
-    }
+      return fan_winds_once(tris, [&](const Vec3& d) { return std::pair{dot(d, u), dot(d, w)}; });
+    };
+    if (winds_along(nrm[v])) return true;
+    Vec3 nsum;
+    for (const StarTri& t : tris) nsum += unit(cross(t.p[1] - t.p[0], t.p[2] - t.p[0]));
+    if (winds_along(unit(nsum))) return true;
     for (std::size_t i = 0; i < tris.size(); ++i) {
       if (length(cross(tris[i].p[1] - tris[i].p[0], tris[i].p[2] - tris[i].p[0])) == 0) return false;
       for (std::size_t j = i + 1; j < tris.size(); ++j) {
@@ -382,18 +396,8 @@ TriMesh assemble(const std::vector<LeafRecord*>& leaves, const MeshGrid& grid, i
       tris.push_back({{c, a, b}, {p.center, position(a), position(b)}});
     });
     const int u = (p.axis + 1) % 3, w = (p.axis + 2) % 3;
-    double total = 0;
-    bool turning = true;
-    for (const StarTri& t : tris) {
-      const double ax = t.p[1][u] - t.p[0][u], ay = t.p[1][w] - t.p[0][w], bx = t.p[2][u] - t.p[0][u], by = t.p[2][w] - t.p[0][w];
-      const double ang = p.dir * std::atan2(ax * by - ay * bx, ax * bx + ay * by);
-      if (!(ang > 1e-9)) {
-        turning = false;
-        break;
-      }
-      total += ang;
-    }
-    if (turning && std::fabs(total - 2 * std::numbers::pi) < 1e-6) return true;
+    const double dir = p.dir;
+    if (fan_winds_once(tris, [&](const Vec3& d) { return std::pair{d[u], dir * d[w]}; })) return true;
     for (std::size_t i = 0; i < tris.size(); ++i) {
       if (length(cross(tris[i].p[1] - tris[i].p[0], tris[i].p[2] - tris[i].p[0])) == 0) return false;
       for (std::size_t j = i + 1; j < tris.size(); ++j) {

@@ -10,8 +10,7 @@
 namespace frep {
 namespace {
 
-// The two axes other than `a`, in increasing order.
-constexpr std::array<int, 2> other_axes(int a) { return a == 0 ? std::array{1, 2} : (a == 1 ? std::array{0, 2} : std::array{0, 1}); }
+using detail::other_axes;
 
 bool crosses(std::uint8_t config, int e) {
   return ((config >> cell_edge_corner(e, 0)) & 1) != ((config >> cell_edge_corner(e, 1)) & 1);
@@ -145,36 +144,9 @@ struct Table {
 
 }  // namespace
 
-int cell_edge_corner(int e, int end) {
-  const int a = e / 4;
-  const auto [p, q] = other_axes(a);
-  return (end << a) | ((e & 1) << p) | (((e >> 1) & 1) << q);
-}
-
-int cell_edge_face(int e, int k) {
-  const auto axes = other_axes(e / 4);
-  return 2 * axes[static_cast<std::size_t>(k)] + ((e >> k) & 1);
-}
-
-int cell_edge(int axis, int corner) {
-  const auto [p, q] = other_axes(axis);
-  return 4 * axis + ((corner >> p) & 1) + 2 * ((corner >> q) & 1);
-}
-
-std::uint8_t ambiguous_faces(std::uint8_t config) {
-  std::uint8_t m = 0;
-  for (int f = 0; f < kCellFaces; ++f) {
-    const int a = f / 2, side = f % 2;
-    const auto [p, q] = other_axes(a);
-    auto in = [&](int u, int v) { return (config >> ((side << a) | (u << p) | (v << q))) & 1; };
-    if (in(0, 0) == in(1, 1) && in(1, 0) == in(0, 1) && in(0, 0) != in(1, 0)) m |= static_cast<std::uint8_t>(1u << f);
-  }
-  return m;
-}
-
-const CellTopology& cell_topology(std::uint8_t config, std::uint8_t decisions) {
+const CellTopology* cell_topology_table() {
   static const Table table;
-  return table.entries[static_cast<std::size_t>(config) * 64 + (decisions & ambiguous_faces(config))];
+  return table.entries.data();
 }
 
 }  // namespace frep

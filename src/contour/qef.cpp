@@ -44,7 +44,7 @@ void symmetric_eigen3(const double m[6], double values[3], Vec3 vectors[3]) {
   for (int sweep = 0; sweep < 32; ++sweep) {
     const double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
     const double diag = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
-    if (off <= 1e-30 * diag || off == 0) break;
+    if (off <= 1e-24 * diag || off == 0) break;
     for (int p = 0; p < 2; ++p)
       for (int q = p + 1; q < 3; ++q) {
         if (a[p][q] == 0) continue;
@@ -84,14 +84,47 @@ Vec3 Qef::solve(double threshold, int max_rank, int* rank) const {
   const Vec3 m = mass_point();
   int r = 0;
   Vec3 x = m;
+  // Residual of the normal equations at the mass point: A^T b - A^T A m.
+  auto residual = [&] {
+    return Vec3{atb_[0] - (ata_[0] * m.x + ata_[1] * m.y + ata_[2] * m.z),
+                atb_[1] - (ata_[1] * m.x + ata_[3] * m.y + ata_[4] * m.z),
+                atb_[2] - (ata_[2] * m.x + ata_[4] * m.y + ata_[5] * m.z)};
+  };
+  if (planes_ > 0 && max_rank > 0 && threshold > 0) {
+    // Fast path for nearly parallel normals (most cells of a smooth surface): the dominant
+    // eigenvector by a few power steps; if the rest of the trace is below the threshold, so is
+    // every other eigenvalue, and the answer is the rank-1 one.
+    const double* a = ata_;
+    const double trace = a[0] + a[3] + a[5];
+    Vec3 v{a[0], a[1], a[2]};
+    if (a[3] > a[0] && a[3] >= a[5]) v = {a[1], a[3], a[4]};
+    else if (a[5] > a[0] && a[5] > a[3]) v = {a[2], a[4], a[5]};
+    double l1 = 0;
+    for (int it = 0; it < 4; ++it) {
+      const double n = length(v);
+      if (!(n > 0)) break;
+      v = v / n;
+      const Vec3 w{a[0] * v.x + a[1] * v.y + a[2] * v.z, a[1] * v.x + a[3] * v.y + a[4] * v.z,
+                   a[2] * v.x + a[4] * v.y + a[5] * v.z};
+      l1 = dot(v, w);
+      v = w;
+    }
+    const double n = length(v);
+    if (l1 > 0 && n > 0 && trace - l1 < threshold * l1 * 0.5) {
+      v = v / n;
+      x = m + v * (dot(v, residual()) / l1);
+      if (std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z)) {
+        if (rank) *rank = 1;
+        return x;
+      }
+      x = m;
+    }
+  }
   if (planes_ > 0 && max_rank > 0) {
     double values[3];
     Vec3 vecs[3];
     symmetric_eigen3(ata_, values, vecs);
-    // Residual of the normal equations at the mass point: A^T b - A^T A m.
-    const Vec3 g{atb_[0] - (ata_[0] * m.x + ata_[1] * m.y + ata_[2] * m.z),
-                 atb_[1] - (ata_[1] * m.x + ata_[3] * m.y + ata_[4] * m.z),
-                 atb_[2] - (ata_[2] * m.x + ata_[4] * m.y + ata_[5] * m.z)};
+    const Vec3 g = residual();
     for (int i = 0; i < 3 && r < max_rank; ++i) {
       if (!(values[i] > 0) || values[i] < threshold * values[0]) break;
       x += vecs[i] * (dot(vecs[i], g) / values[i]);
@@ -129,7 +162,7 @@ Vec3 Qef::solve_in(const Box3& box, double threshold, double slack) const {
   for (int pattern = 0; pattern < 27; ++pattern) {
     int state[3];  // 0 free, 1 at lo, 2 at hi
     for (int i = 0, p = pattern; i < 3; ++i, p /= 3) state[i] = p % 3;
-    double y[3];
+    double y[3] = {0, 0, 0};
     int free_idx[3], nf = 0;
     for (int i = 0; i < 3; ++i) {
       if (state[i] == 1) y[i] = box.lo[i];

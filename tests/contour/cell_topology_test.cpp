@@ -121,7 +121,9 @@ TEST(CellTopology, EveryPatternAndDecision) {
       const int cycles = crossings ? surface_regions(cfg, dec) - 1 : 0;
       EXPECT_GE(t.vertices, cycles);
       if (t.vertices > cycles) ++split_cells;
-      if (config == 0 || config == 255) EXPECT_EQ(t.vertices, 0);
+      if (config == 0 || config == 255) {
+        EXPECT_EQ(t.vertices, 0);
+      }
     }
   }
   // Some patterns do need splitting (a piece meeting a face twice), e.g. the one in the header.

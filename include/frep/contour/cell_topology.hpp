@@ -17,24 +17,59 @@
 // edge's coordinates along the two other axes in increasing order. Face f = 2 * axis + side.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 namespace frep {
 
 inline constexpr int kCellCorners = 8, kCellEdges = 12, kCellFaces = 6;
+
+namespace detail {
+// The two axes other than `a`, in increasing order.
+constexpr std::array<int, 2> other_axes(int a) { return a == 0 ? std::array{1, 2} : (a == 1 ? std::array{0, 2} : std::array{0, 1}); }
+struct EdgeTables {
+  std::uint8_t corner[kCellEdges][2] = {};
+  std::uint8_t face[kCellEdges][2] = {};
+  std::uint8_t edge[3][kCellCorners] = {};
+  std::uint8_t ambiguous[256] = {};
+};
+constexpr EdgeTables make_edge_tables() {
+  EdgeTables t;
+  for (int e = 0; e < kCellEdges; ++e) {
+    const int a = e / 4;
+    const auto o = other_axes(a);
+    for (int end = 0; end < 2; ++end) t.corner[e][end] = static_cast<std::uint8_t>((end << a) | ((e & 1) << o[0]) | (((e >> 1) & 1) << o[1]));
+    for (int k = 0; k < 2; ++k) t.face[e][k] = static_cast<std::uint8_t>(2 * o[k] + ((e >> k) & 1));
+  }
+  for (int a = 0; a < 3; ++a) {
+    const auto o = other_axes(a);
+    for (int c = 0; c < kCellCorners; ++c) t.edge[a][c] = static_cast<std::uint8_t>(4 * a + ((c >> o[0]) & 1) + 2 * ((c >> o[1]) & 1));
+  }
+  for (int config = 0; config < 256; ++config) {
+    for (int f = 0; f < kCellFaces; ++f) {
+      const int a = f / 2, side = f % 2;
+      const auto o = other_axes(a);
+      auto in = [&](int u, int v) { return (config >> ((side << a) | (u << o[0]) | (v << o[1]))) & 1; };
+      if (in(0, 0) == in(1, 1) && in(1, 0) == in(0, 1) && in(0, 0) != in(1, 0)) t.ambiguous[config] |= static_cast<std::uint8_t>(1u << f);
+    }
+  }
+  return t;
+}
+inline constexpr EdgeTables kEdgeTables = make_edge_tables();
+}  // namespace detail
 // At most this many dual vertices in one cell (pieces of surface, after splitting).
 inline constexpr int kMaxCellVertices = 8;
 inline constexpr std::uint8_t kNoCellVertex = 0xff;
 
 // Corner at the low (end 0) or high (end 1) end of edge e.
-int cell_edge_corner(int e, int end);
+constexpr int cell_edge_corner(int e, int end) { return detail::kEdgeTables.corner[e][end]; }
 // The two faces that contain edge e (k = 0: perpendicular to the first other axis, 1: the second).
-int cell_edge_face(int e, int k);
-// Edge along `axis` whose low corner is `corner` (bit `axis` of the corner must be 0).
-int cell_edge(int axis, int corner);
+constexpr int cell_edge_face(int e, int k) { return detail::kEdgeTables.face[e][k]; }
+// Edge along `axis` whose low corner is `corner` (bit `axis` of the corner is ignored).
+constexpr int cell_edge(int axis, int corner) { return detail::kEdgeTables.edge[axis][corner]; }
 
 // Faces whose four corners alternate in sign (inside on one diagonal, outside on the other).
-std::uint8_t ambiguous_faces(std::uint8_t config);
+constexpr std::uint8_t ambiguous_faces(std::uint8_t config) { return detail::kEdgeTables.ambiguous[config]; }
 
 struct CellTopology {
   std::uint8_t vertices = 0;                      // dual vertices of the cell
@@ -51,6 +86,10 @@ struct CellTopology {
 // The topology for a sign pattern (bit c set: corner c is inside) and face decisions (bit f
 // set: on ambiguous face f the inside corners are joined across the face, i.e. the segments cut
 // off the outside corners; bits of faces that are not ambiguous are ignored). Precomputed.
-const CellTopology& cell_topology(std::uint8_t config, std::uint8_t decisions);
+const CellTopology* cell_topology_table();  // [config * 64 + decisions], decisions masked
+inline const CellTopology& cell_topology(std::uint8_t config, std::uint8_t decisions) {
+  static const CellTopology* const table = cell_topology_table();
+  return table[static_cast<std::size_t>(config) * 64 + (decisions & ambiguous_faces(config))];
+}
 
 }  // namespace frep
