@@ -2,6 +2,7 @@
 // Jacobi eigen-solver for the 3x3 normal matrix.
 #include "frep/contour/qef.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -38,46 +39,83 @@ double Qef::error(const Vec3& x) const {
   return std::max(0.0, xax - 2 * (x.x * atb_[0] + x.y * atb_[1] + x.z * atb_[2]) + btb_);
 }
 
+namespace {
+
+// A unit vector perpendicular to v.
+Vec3 any_perpendicular(const Vec3& v) {
+  const Vec3 c = std::fabs(v.x) < 0.6 ? cross(v, Vec3{1, 0, 0}) : cross(v, Vec3{0, 1, 0});
+  return c / length(c);
+}
+
+// Unit eigenvector of m for eigenvalue l (well separated from the others): the largest cross
+// product of two rows of m - l I, which is orthogonal to both and so to the row space.
+Vec3 eigenvector(const double m[6], double l) {
+  const Vec3 r0{m[0] - l, m[1], m[2]}, r1{m[1], m[3] - l, m[4]}, r2{m[2], m[4], m[5] - l};
+  const Vec3 c[3] = {cross(r0, r1), cross(r0, r2), cross(r1, r2)};
+  int best = 0;
+  for (int i = 1; i < 3; ++i)
+    if (length2(c[i]) > length2(c[best])) best = i;
+  const double n = length(c[best]);
+  return n > 0 ? c[best] / n : Vec3{1, 0, 0};
+}
+
+}  // namespace
+
+// Eigenvalues in closed form (the trigonometric solution of the characteristic cubic),
+// eigenvectors from cross products; (nearly) repeated eigenvalues get any orthonormal basis of
+// their eigenspace. Much cheaper than iterating, and accurate enough for truncation.
 void symmetric_eigen3(const double m[6], double values[3], Vec3 vectors[3]) {
-  double a[3][3] = {{m[0], m[1], m[2]}, {m[1], m[3], m[4]}, {m[2], m[4], m[5]}};
-  double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  for (int sweep = 0; sweep < 32; ++sweep) {
-    const double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
-    const double diag = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
-    if (off <= 1e-24 * diag || off == 0) break;
-    for (int p = 0; p < 2; ++p)
-      for (int q = p + 1; q < 3; ++q) {
-        if (a[p][q] == 0) continue;
-        // Rotation that zeroes a[p][q] (the smaller angle, for stability).
-        const double theta = (a[q][q] - a[p][p]) / (2 * a[p][q]);
-        const double t = (theta >= 0 ? 1.0 : -1.0) / (std::fabs(theta) + std::sqrt(theta * theta + 1));
-        const double c = 1 / std::sqrt(t * t + 1), s = t * c;
-        for (int k = 0; k < 3; ++k) {
-          const double akp = a[k][p], akq = a[k][q];
-          a[k][p] = c * akp - s * akq;
-          a[k][q] = s * akp + c * akq;
-        }
-        for (int k = 0; k < 3; ++k) {
-          const double apk = a[p][k], aqk = a[q][k];
-          a[p][k] = c * apk - s * aqk;
-          a[q][k] = s * apk + c * aqk;
-        }
-        for (int k = 0; k < 3; ++k) {
-          const double vkp = v[k][p], vkq = v[k][q];
-          v[k][p] = c * vkp - s * vkq;
-          v[k][q] = s * vkp + c * vkq;
-        }
-      }
+  const double scale = std::max({std::fabs(m[0]), std::fabs(m[1]), std::fabs(m[2]), std::fabs(m[3]), std::fabs(m[4]),
+                                 std::fabs(m[5])});
+  vectors[0] = {1, 0, 0}, vectors[1] = {0, 1, 0}, vectors[2] = {0, 0, 1};
+  if (!(scale > 0) || !std::isfinite(scale)) {
+    values[0] = values[1] = values[2] = 0;
+    if (!std::isfinite(scale)) values[0] = values[1] = values[2] = scale;
+    return;
   }
-  int order[3] = {0, 1, 2};
-  for (int i = 0; i < 3; ++i)
-    for (int j = i + 1; j < 3; ++j)
-      if (a[order[j]][order[j]] > a[order[i]][order[i]]) std::swap(order[i], order[j]);
-  for (int i = 0; i < 3; ++i) {
-    const int k = order[i];
-    values[i] = a[k][k];
-    vectors[i] = {v[0][k], v[1][k], v[2][k]};
+  // Work on m / scale (entries within [-1, 1]).
+  double a[6];
+  for (int i = 0; i < 6; ++i) a[i] = m[i] / scale;
+  const double q = (a[0] + a[3] + a[5]) / 3;
+  const double p1 = a[1] * a[1] + a[2] * a[2] + a[4] * a[4];
+  const double d0 = a[0] - q, d1 = a[3] - q, d2 = a[5] - q;
+  const double p = std::sqrt((d0 * d0 + d1 * d1 + d2 * d2 + 2 * p1) / 6);
+  double l[3];
+  if (p < 1e-15) {
+    l[0] = l[1] = l[2] = q;
+  } else {
+    // B = (A - q I) / p; det(B) / 2 = cos(3 phi).
+    const double b0 = d0 / p, b1 = a[1] / p, b2 = a[2] / p, b3 = d1 / p, b4 = a[4] / p, b5 = d2 / p;
+    const double det = b0 * (b3 * b5 - b4 * b4) - b1 * (b1 * b5 - b4 * b2) + b2 * (b1 * b4 - b3 * b2);
+    const double r = std::clamp(det / 2, -1.0, 1.0);
+    const double phi = std::acos(r) / 3;
+    l[0] = q + 2 * p * std::cos(phi);
+    l[2] = q + 2 * p * std::cos(phi + 2.0943951023931957);  // + 2 pi / 3
+    l[1] = 3 * q - l[0] - l[2];
+    if (l[1] > l[0]) std::swap(l[0], l[1]);
+    if (l[2] > l[1]) std::swap(l[1], l[2]);
+    if (l[1] > l[0]) std::swap(l[0], l[1]);
   }
+  // Relative gap below which eigenvalues count as repeated (the closed form is good to about
+  // 1e-8 near double roots, where acos loses half the digits).
+  const double tol = 1e-7;
+  const bool gap01 = l[0] - l[1] > tol, gap12 = l[1] - l[2] > tol;
+  if (gap01 && gap12) {
+    vectors[0] = eigenvector(a, l[0]);
+    vectors[2] = eigenvector(a, l[2]);
+    vectors[2] = vectors[2] - vectors[0] * dot(vectors[0], vectors[2]);
+    vectors[2] = vectors[2] / length(vectors[2]);
+    vectors[1] = cross(vectors[2], vectors[0]);
+  } else if (gap01) {
+    vectors[0] = eigenvector(a, l[0]);
+    vectors[1] = any_perpendicular(vectors[0]);
+    vectors[2] = cross(vectors[0], vectors[1]);
+  } else if (gap12) {
+    vectors[2] = eigenvector(a, l[2]);
+    vectors[0] = any_perpendicular(vectors[2]);
+    vectors[1] = cross(vectors[2], vectors[0]);
+  }
+  for (int i = 0; i < 3; ++i) values[i] = l[i] * scale;
 }
 
 Vec3 Qef::solve(double threshold, int max_rank, int* rank) const {

@@ -179,7 +179,7 @@ TEST(MeshShapes, GyroidManyHandles) {
   const Expr gyroid = sin(s.x * k) * cos(s.y * k) + sin(s.y * k) * cos(s.z * k) + sin(s.z * k) * cos(s.x * k);
   const Expr e = max(abs(gyroid) - 0.3f, sqrt(square(s.x) + square(s.y) + square(s.z)) - 0.9f);
   for (auto method : {MeshMethod::DualContouring, MeshMethod::Snap}) {
-    const TriMesh m = mesh_solid(e, options(40, Box3{}, method), "gyroid");
+    const TriMesh m = mesh_solid(e, options(32, Box3{}, method), "gyroid");
     const ValidationReport r = validate_mesh(m);
     ASSERT_TRUE(r.genus.has_value());
     EXPECT_GT(*r.genus, 20);

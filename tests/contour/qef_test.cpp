@@ -35,6 +35,40 @@ TEST(Qef, EigenOfRandomSymmetricMatrices) {
   }
 }
 
+// Matrices R diag(l) R^T with (nearly) repeated eigenvalues: the values come back, and the
+// vectors span the right eigenspaces (A v = l v), orthonormal.
+TEST(Qef, EigenWithRepeatedValues) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double spectra[][3] = {{1, 1 + 1e-12, 0.3}, {1, 0.5, 0.5}, {2, 2, 2}, {1, 1e-8, 0}, {1, 0, 0}, {3, 1e-13, 0}};
+  for (const auto& l : spectra)
+    for (int trial = 0; trial < 200; ++trial) {
+      // A random rotation from a normalized quaternion.
+      double qw = u(rng), qx = u(rng), qy = u(rng), qz = u(rng);
+      const double n = std::sqrt(qw * qw + qx * qx + qy * qy + qz * qz);
+      qw /= n, qx /= n, qy /= n, qz /= n;
+      const double R[3][3] = {{1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw), 2 * (qx * qz + qy * qw)},
+                              {2 * (qx * qy + qz * qw), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qx * qw)},
+                              {2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy)}};
+      double A[3][3] = {};
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          for (int k = 0; k < 3; ++k) A[i][j] += R[i][k] * l[k] * R[j][k];
+      const double m[6] = {A[0][0], A[0][1], A[0][2], A[1][1], A[1][2], A[2][2]};
+      double val[3];
+      Vec3 vec[3];
+      symmetric_eigen3(m, val, vec);
+      for (int i = 0; i < 3; ++i) {
+        EXPECT_NEAR(val[i], l[i], 1e-7);  // the closed form loses digits at double roots
+        const Vec3 v = vec[i];
+        const Vec3 av{A[0][0] * v.x + A[0][1] * v.y + A[0][2] * v.z, A[1][0] * v.x + A[1][1] * v.y + A[1][2] * v.z,
+                      A[2][0] * v.x + A[2][1] * v.y + A[2][2] * v.z};
+        EXPECT_LT(length(av - v * val[i]), 1e-7);
+        for (int j = 0; j < 3; ++j) EXPECT_NEAR(dot(vec[i], vec[j]), i == j ? 1.0 : 0.0, 1e-9);
+      }
+    }
+}
+
 TEST(Qef, CornerEdgeAndFace) {
   const Vec3 c{0.3, 0.6, 0.2};
   // Three planes through c (normals not axis-aligned): the corner, exactly.

@@ -40,8 +40,8 @@ class Qef {
   int points_ = 0, planes_ = 0;
 };
 
-// Eigen-decomposition of a symmetric 3x3 matrix (xx xy xz yy yz zz) by cyclic Jacobi rotations:
-// eigenvalues in decreasing order, and unit eigenvectors (columns).
+// Eigen-decomposition of a symmetric 3x3 matrix (xx xy xz yy yz zz): eigenvalues in decreasing
+// order, and orthonormal eigenvectors.
 void symmetric_eigen3(const double m[6], double values[3], Vec3 vectors[3]);
 
 }  // namespace frep
