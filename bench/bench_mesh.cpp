@@ -91,7 +91,8 @@ void run(benchmark::State& state, const Case& c, const char* name, double libfiv
                           std::to_string(o.resolution);
   if (checked.insert(key).second) {
     const frep::ValidationReport r = frep::validate_mesh(mesh);
-    std::fprintf(stderr, "check: %s: %s\n", key.c_str(), r.summary().c_str());
+    std::fprintf(stderr, "check: %s: %s; unresolved vertices: %zu\n", key.c_str(), r.summary().c_str(),
+                 mesher.stats().unresolved);
   }
   for (auto _ : state) {
     mesh = mesher.mesh(tape);
