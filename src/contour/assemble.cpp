@@ -257,17 +257,18 @@ TriMesh assemble(const std::vector<LeafRecord*>& leaves, const MeshGrid& grid, i
             // Outward: from the inside end of the edge to the outside end.
             const bool low_inside = owner.config & 1;
             if (!low_inside) std::reverse(p.v, p.v + p.n);
-            // The fan center: on the edge at the crossing, kept off the edge's ends so that it
-            // differs from every other vertex.
-            const double t = std::clamp(static_cast<double>(owner.t[a]), 0.02, 0.98);
+            // The fan center: on the edge at the crossing (an f32 value), kept off the edge's ends
+            // so that it differs from every other vertex (an edge spans 64 f32 steps at least).
+            const double t = std::clamp(static_cast<double>(owner.t[a]), 0.05, 0.95);
             p.axis = static_cast<std::uint8_t>(a);
             p.dir = low_inside ? 1 : -1;
             p.center = Vec3{grid.coord(0, og[0]), grid.coord(1, og[1]), grid.coord(2, og[2])};
-            p.center[a] += t * (grid.coord(a, og[a] + 1) - p.center[a]);
+            p.center[a] = round_f32(p.center[a] + t * (grid.coord(a, og[a] + 1) - p.center[a]));
             if (p.n == 4 && !routed) {
               // The better diagonal: the one that stays in the tangent planes at its ends (along a
               // sharp edge rather than across it), unless only the other keeps both triangles
-              // facing along the edge.
+              // facing along the edge, or only the other avoids a sliver (three vertices along one
+              // sharp edge make a triangle of no area).
               Vec3 dir;
               dir[a] = low_inside ? 1 : -1;
               const Vec3 q[4] = {pos[p.v[0]], pos[p.v[1]], pos[p.v[2]], pos[p.v[3]]};
@@ -277,9 +278,16 @@ TriMesh assemble(const std::vector<LeafRecord*>& leaves, const MeshGrid& grid, i
                 const Vec3 d = q[j] - q[i];
                 return std::fabs(dot(d, n[i])) + std::fabs(dot(d, n[j]));
               };
+              auto sliver = [&](int i, int j, int k) {
+                const Vec3 e0 = q[j] - q[i], e1 = q[k] - q[i], e2 = q[k] - q[j];
+                return length(cross(e0, e1)) <= 1e-6 * std::max({length2(e0), length2(e1), length2(e2)});
+              };
               const double fa = std::min(facing(0, 1, 2), facing(0, 2, 3));
               const double fb = std::min(facing(0, 1, 3), facing(1, 2, 3));
-              const bool use_a = (fa > 0) != (fb > 0) ? fa > 0 : deviation(0, 2) <= deviation(1, 3);
+              const bool sa = sliver(0, 1, 2) || sliver(0, 2, 3), sb = sliver(0, 1, 3) || sliver(1, 2, 3);
+              const bool use_a = sa != sb                ? sb
+                                 : (fa > 0) != (fb > 0) ? fa > 0
+                                                         : deviation(0, 2) <= deviation(1, 3);
               p.mode = use_a ? Poly::SplitA : Poly::SplitB;
             }
             *out++ = p;
@@ -295,8 +303,10 @@ TriMesh assemble(const std::vector<LeafRecord*>& leaves, const MeshGrid& grid, i
   keys_all.erase(std::unique(keys_all.begin(), keys_all.end()), keys_all.end());
   FREP_ASSERT(nv64 + keys_all.size() < 0x7fffffffu, "too many vertices");
   std::vector<Vec3> route_pos(keys_all.size());
-  for (std::size_t i = 0; i < keys_all.size(); ++i)
-    route_pos[i] = (edge_midpoint(grid, keys_all[i].e0) + edge_midpoint(grid, keys_all[i].e1)) * 0.5;
+  for (std::size_t i = 0; i < keys_all.size(); ++i) {
+    const Vec3 m = (edge_midpoint(grid, keys_all[i].e0) + edge_midpoint(grid, keys_all[i].e1)) * 0.5;
+    route_pos[i] = round_f32(m);
+  }
   if (!keys_all.empty())
     for (std::size_t li = 0; li < leaves.size(); ++li) {
       if (leaf_routes[li].empty()) continue;
@@ -328,14 +338,15 @@ TriMesh assemble(const std::vector<LeafRecord*>& leaves, const MeshGrid& grid, i
   // Star check: does the fan of triangles around v project, onto the plane of their summed
   // normal, as wedges that all turn the same way and go round exactly once?
   // Do the triangles about their first corner, projected to 2D by `proj`, turn the same way
-  // (counter-clockwise, each by less than half a turn) and go round exactly once? The turns are
-  // counted as the triangles that cross the ray along +x from below.
+  // (counter-clockwise, each by less than half a turn and clearly more than none) and go round
+  // exactly once? The turns are counted as the triangles that cross the ray along +x from below.
+  // Nearly flat turns are left to the exact test (a sliver may be folded).
   auto fan_winds_once = [](const auto& tris, auto&& proj) {
     int crossings = 0;
     for (const auto& t : tris) {
       const auto [ax, ay] = proj(t.p[1] - t.p[0]);
       const auto [bx, by] = proj(t.p[2] - t.p[0]);
-      if (!(ax * by - ay * bx > 0)) return false;
+      if (!(ax * by - ay * bx > 1e-9 * std::sqrt((ax * ax + ay * ay) * (bx * bx + by * by)))) return false;
       crossings += ay < 0 && by >= 0;
     }
     return crossings == 1;
@@ -443,13 +454,14 @@ TriMesh assemble(const std::vector<LeafRecord*>& leaves, const MeshGrid& grid, i
     const Vec3 orig = pos[v];
     const Box3 box = cell_box(orig);
     std::vector<Vec3> candidates;
-    for (double w : {1.0, 0.5, 0.75, 0.25}) candidates.push_back(max(box.lo, min(box.hi, orig + (centroid - orig) * w)));
+    for (double w : {1.0, 0.5, 0.75, 0.25}) candidates.push_back(to_f32_inside(orig + (centroid - orig) * w, box));
     std::vector<Vec3> lattice;
     for (int i = 0; i < 5; ++i)
       for (int j = 0; j < 5; ++j)
         for (int k = 0; k < 5; ++k)
           lattice.push_back(box.lo + Vec3{(box.hi.x - box.lo.x) * (0.1 + 0.2 * i), (box.hi.y - box.lo.y) * (0.1 + 0.2 * j),
                                           (box.hi.z - box.lo.z) * (0.1 + 0.2 * k)});
+    for (Vec3& c : lattice) c = to_f32_inside(c, box);
     std::stable_sort(lattice.begin(), lattice.end(),
                      [&](const Vec3& a, const Vec3& b) { return length2(a - orig) < length2(b - orig); });
     candidates.insert(candidates.end(), lattice.begin(), lattice.end());

@@ -338,9 +338,10 @@ void LeafMesher::place_vertices_dc(LeafRecord& out) {
     // which keeps the pieces apart (the assembly keeps their triangles inside the cell).
     if (topo.vertices > 1)
       for (int v = 0; v < topo.vertices; ++v) local[v] = max(cell.lo, min(cell.hi, qefs[v].mass_point()));
+    const Box3 inside{lo + Vec3{kInside, kInside, kInside} * h, hi - Vec3{kInside, kInside, kInside} * h};
     for (int v = 0; v < topo.vertices; ++v) {
-      out.positions.push_back(lo + local[v] * h);
-      out.mass.push_back(lo + max(cell.lo, min(cell.hi, qefs[v].mass_point())) * h);
+      out.positions.push_back(to_f32_inside(lo + local[v] * h, inside));
+      out.mass.push_back(to_f32_inside(lo + max(cell.lo, min(cell.hi, qefs[v].mass_point())) * h, inside));
       out.piece.push_back(static_cast<std::uint8_t>(v | topo.vertices << 4));
     }
   }
@@ -378,11 +379,11 @@ void LeafMesher::place_vertices_snap(const Tape& tape, LeafRecord& out) {
           m += crossings_[static_cast<std::size_t>(edge_slot_[e / 4][base + off[cell_edge_corner(e, 0)]])].p;
           ++count;
         }
-        p = max(cell.lo, min(cell.hi, m / static_cast<double>(count)));
+        p = to_f32_inside(m / static_cast<double>(count), cell);
         keep = Box3{p, p};
       }
-      out.positions.push_back(p);
-      out.mass.push_back(p);
+      out.positions.push_back(to_f32_inside(p, cell));
+      out.mass.push_back(out.positions.back());
       out.piece.push_back(static_cast<std::uint8_t>(v | topo.vertices << 4));
       keep_in_.push_back(keep);
     }
@@ -390,6 +391,11 @@ void LeafMesher::place_vertices_snap(const Tape& tape, LeafRecord& out) {
   std::vector<Vec3f> normals;
   snapper_.snap(tape, out.positions, keep_in_, h, o_.snap, &normals);
   out.normals = std::move(normals);
+  for (std::size_t i = 0; i < out.positions.size(); ++i) {
+    // Back inside the cell (not the point box of a vertex kept at its centroid).
+    const Box3& keep = keep_in_[i];
+    out.positions[i] = keep.lo == keep.hi ? keep.lo : to_f32_inside(out.positions[i], keep);
+  }
 }
 
 }  // namespace frep::contour

@@ -2,6 +2,8 @@
 // crossings and dual vertices, and keep what the assembly needs to join cells into polygons.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -17,6 +19,28 @@ inline constexpr std::uint16_t kNoCell = 0xffff;
 // Dual vertices stay this far (in cells) inside their cell: vertices of different cells never
 // coincide, even where the QEF minimizer or the surface lies on a cell face.
 inline constexpr double kVertexInset = 1e-4;
+
+// v rounded to the nearest f32, through a volatile: GCC 12.2's SLP vectorizer drops the
+// rounding of (double)(float) on fields of a struct of doubles at -O2 (x and y of a Vec3 came
+// out unrounded; reproduced in isolation), so a plain cast cannot be trusted here.
+inline double round_f32(double v) {
+  volatile float f = static_cast<float>(v);
+  return f;
+}
+inline Vec3 round_f32(const Vec3& p) { return {round_f32(p.x), round_f32(p.y), round_f32(p.z)}; }
+
+// p rounded to f32 coordinates (what STL stores, so every check on the mesh holds for the file
+// too), kept inside `box`: a coordinate that rounds out of it steps back in, one f32 at a time.
+inline Vec3 to_f32_inside(const Vec3& p, const Box3& box) {
+  Vec3 r;
+  for (int a = 0; a < 3; ++a) {
+    double v = round_f32(std::clamp(p[a], box.lo[a], box.hi[a]));
+    const float mid = static_cast<float>(0.5 * (box.lo[a] + box.hi[a]));
+    for (int i = 0; i < 4 && (v < box.lo[a] || v > box.hi[a]); ++i) v = std::nextafter(static_cast<float>(v), mid);
+    r[a] = v;
+  }
+  return r;
+}
 
 // A cell with sign changes.
 struct SurfaceCell {

@@ -118,8 +118,8 @@ TriMesh Mesher::mesh(const Tape& tape) {
   Box3 cut = margin ? grid.box : region;
   for (int a = 0; a < 3; ++a) {
     // As f32, not beyond the grid (so that the grid's boundary corners stay outside).
-    cut.lo[a] = std::max(static_cast<double>(static_cast<float>(cut.lo[a])), grid.box.lo[a]);
-    cut.hi[a] = std::min(static_cast<double>(static_cast<float>(cut.hi[a])), grid.box.hi[a]);
+    cut.lo[a] = std::max(round_f32(cut.lo[a]), grid.box.lo[a]);
+    cut.hi[a] = std::min(round_f32(cut.hi[a]), grid.box.hi[a]);
   }
   const Tape closed = close_at_box(tape, cut);
 

@@ -21,6 +21,16 @@ inline ValidationReport expect_solid(const TriMesh& m, const std::string& what) 
       ADD_FAILURE() << what << ": non-finite vertex";
       break;
     }
+    // f32 coordinates: what STL stores, so the checks hold for STL files too. (Through a
+    // volatile: GCC 12's SLP vectorizer may drop a (double)(float) round trip.)
+    auto is_f32 = [](double d) {
+      volatile float f = static_cast<float>(d);
+      return static_cast<double>(f) == d;
+    };
+    if (!is_f32(v.x) || !is_f32(v.y) || !is_f32(v.z)) {
+      ADD_FAILURE() << what << ": a coordinate is not an f32 value: vertex " << (&v - m.vertices.data()) << " of " << m.vertices.size() << " " << v.x << " " << v.y << " " << v.z;
+      break;
+    }
   }
   return r;
 }

@@ -13,6 +13,7 @@
 #include "frep/error.hpp"
 #include "frep/expr/expr.hpp"
 #include "frep/io/vm.hpp"
+#include "frep/mesh/mesh_io.hpp"
 #include "test_util.hpp"
 
 namespace frep {
@@ -76,6 +77,19 @@ TEST(Mesher, SharedModelsAreSolids) {
 TEST(Mesher, BearAt128IsASolid) {
   FREP_REQUIRE_DATA("bear.vm");
   mesh_solid(load("bear.vm"), options(128), "bear at 128");
+}
+
+// A 2D model extruded between given bounds: sharp corners on every letter, flat caps, three
+// vertices along one sharp edge in many quads. Written as STL (f32 coordinates) and read back,
+// it is still a valid solid.
+TEST(Mesher, ExtrudedProsperoThroughStl) {
+  FREP_REQUIRE_DATA("prospero.vm");
+  const Tape t = load("prospero.vm");
+  for (auto method : {MeshMethod::DualContouring, MeshMethod::Snap}) {
+    const TriMesh m = mesh_solid(t, options(128, Box3{{-1, -1, -0.05}, {1, 1, 0.05}}, method), "extruded prospero");
+    const TriMesh back = read_mesh_from_memory(write_mesh_to_string(m, MeshFormat::Stl), "prospero.stl");
+    EXPECT_TRUE(validate_mesh(back).is_solid()) << validate_mesh(back).summary();
+  }
 }
 
 TEST(Mesher, SameMeshForAnyThreadCountAndTiles) {
