@@ -134,7 +134,13 @@ void register_mesh(CLI::App& app) {
         shown = true;
       };
     Mesher mesher(o);
-    const TriMesh mesh = mesher.mesh(tape);
+    TriMesh mesh;
+    try {
+      mesh = mesher.mesh(tape);
+    } catch (const InputError& e) {
+      if (!e.file().empty()) throw;
+      throw InputError(a->input, 0, e.detail());  // name the expression the problem is with
+    }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (shown) std::fprintf(stderr, "\r%40s\r", "");
     const MeshStats& st = mesher.stats();
@@ -145,8 +151,13 @@ void register_mesh(CLI::App& app) {
       else
         fmt::print("bounds: {} .. {} (given)\n", fmt_point(o.bounds.lo), fmt_point(o.bounds.hi));
     }
-    if (mesh.triangles.empty())
-      throw InputError(a->input, 0, "the expression is not negative anywhere in the bounds: nothing to mesh");
+    if (mesh.triangles.empty()) {
+      if (st.cells[0] == 0)  // the bounds search found nothing
+        throw InputError(a->input, 0, "the expression is not negative anywhere: nothing to mesh");
+      throw InputError(a->input, 0,
+                       "no sample of the grid is inside the shape: nothing to mesh (the shape is empty in the "
+                       "bounds, or thinner than a cell: try a finer --resolution)");
+    }
     write_mesh(a->output, mesh);
     if (!a->quiet) {
       fmt::print("grid: {} x {} x {} cells of {:.6g} over {} .. {}\n", st.cells[0], st.cells[1], st.cells[2],

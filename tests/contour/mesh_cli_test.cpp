@@ -141,6 +141,15 @@ TEST_F(MeshCommand, Errors) {
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("nothing to mesh"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out));
+  // Nothing inside anywhere.
+  {
+    Graph g;
+    save_vm(path("none.vm"), g, (sqrt(square(g.x()) + square(g.y()) + square(g.z())) + 1.0f).id());
+  }
+  r = run("mesh '" + path("none.vm") + "' -o '" + out + "' -r 16");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("not negative anywhere"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
 }
 
 }  // namespace
