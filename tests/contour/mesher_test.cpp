@@ -98,7 +98,7 @@ TEST(Mesher, SameMeshForAnyThreadCountAndTiles) {
   for (auto method : {MeshMethod::DualContouring, MeshMethod::Snap}) {
     MeshOptions o = options(40, Box3{{-1, -1, -1}, {1, 1, 1}}, method);
     o.threads = 1;
-    const TriMesh ref = mesh_expression(t, o);
+    const TriMesh ref = mesh_solid(t, o, "bear at 40");
     ASSERT_GT(ref.triangles.size(), 1000u);
     for (int threads : {2, 3}) {
       o.threads = threads;
@@ -199,7 +199,7 @@ TEST(Mesher, ProgressAndCancel) {
     if (std::string(p.phase) == "bounds") bounds_phase = true;
     if (std::string(p.phase) == "cells") cells.push_back(p.fraction);
   };
-  const TriMesh m = mesh_expression(ball, o);
+  const TriMesh m = mesh_solid(ball, o, "ball with progress");
   EXPECT_FALSE(m.triangles.empty());
   EXPECT_TRUE(bounds_phase);
   ASSERT_FALSE(cells.empty());
