@@ -5,10 +5,12 @@
 // of the edge is intersection-free when every cell has one vertex inside it (each triangle then
 // crosses the face between two neighbouring cells, and its part in a cell is a cone from the
 // cell's vertex over segments of the cell's boundary that do not cross; Ju and Udeshi 2006). The
-// diagonal split is not, so after splitting every vertex's star (its triangles) is checked: it
-// must project onto the plane of its normal as a fan that winds once, with every triangle turning
-// the same way. Quads at a vertex that fails become fans, and a cell whose vertex still fails
-// gets its vertices at their mass points; repeated until every star passes.
+// diagonal split is not, so after splitting every vertex's star (its triangles) and every fan is
+// checked: projected (onto the plane of the vertex's normal; along the edge for a fan) its
+// triangles must turn the same way and go round once, or else no two of them may meet (the exact
+// test behind `frep check`). At a vertex that fails, its quads become fans; if it still fails, its
+// cell's vertices go to their mass points; then other positions in its cell are tried. Repeated
+// until every vertex passes; coordinates are f32 values throughout, so the result holds for STL.
 //
 // Cells with several vertices (pieces of surface) do not fit that argument, so their polygons
 // are fans, and each polygon edge between two cells, one of them with several vertices, goes

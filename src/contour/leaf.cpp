@@ -13,8 +13,8 @@ namespace frep::contour {
 namespace {
 
 constexpr double kInside = kVertexInset;
-// A QEF minimizer may leave its cell by this much (in cells) before fewer directions are used;
-// it is then clamped into the cell.
+// A QEF minimizer may leave its cell by this much (in cells); beyond, the QEF is minimized over
+// the cell instead.
 constexpr double kSlack = 0.05;
 
 Vec3 normalized_or_zero(double x, double y, double z) {
@@ -32,8 +32,13 @@ bool LeafMesher::process(const Tape& tape, const IndexBox& box, LeafRecord& out)
   ez_ = box.extent(2);
   cx_ = ex_ + 1;
   cy_ = ey_ + 1;
-  const int cz = ez_ + 1;
+  cz_ = ez_ + 1;
+  const int cz = cz_;
   const std::size_t corners = static_cast<std::size_t>(cx_) * cy_ * cz;
+  stride_[0] = 1;
+  stride_[1] = static_cast<std::size_t>(cx_);
+  stride_[2] = static_cast<std::size_t>(cx_) * static_cast<std::size_t>(cy_);
+  for (int c = 0; c < 8; ++c) off_[c] = (c & 1) * stride_[0] + ((c >> 1) & 1) * stride_[1] + ((c >> 2) & 1) * stride_[2];
   xs_.resize(corners);
   ys_.resize(corners);
   zs_.resize(corners);
@@ -60,9 +65,8 @@ bool LeafMesher::process(const Tape& tape, const IndexBox& box, LeafRecord& out)
     if (!in || !outside) return false;
   }
 
-  const std::size_t stride[3] = {1, static_cast<std::size_t>(cx_), static_cast<std::size_t>(cx_) * cy_};
-  std::size_t off[8];
-  for (int c = 0; c < 8; ++c) off[c] = (c & 1) * stride[0] + ((c >> 1) & 1) * stride[1] + ((c >> 2) & 1) * stride[2];
+  const std::size_t* stride = stride_;
+  const std::size_t* off = off_;
 
   out.box = box;
   out.cells.clear();
@@ -128,17 +132,12 @@ bool LeafMesher::process(const Tape& tape, const IndexBox& box, LeafRecord& out)
     std::size_t m = 0;
     for (const Crossing& c : crossings_) {
       const int a = c.axis;
-      const int i = static_cast<int>((c.corner / stride[a]) % static_cast<std::size_t>(a == 0 ? cx_ : (a == 1 ? cy_ : cz)));
-      const double p0 = grid_.coord(a, box.lo[a] + i), p1 = grid_.coord(a, box.lo[a] + i + 1);
+      const auto g = grid_index(c.corner);
+      const double p0 = grid_.coord(a, g[a]), p1 = grid_.coord(a, g[a] + 1);
       for (double plane : {cut_.lo[a], cut_.hi[a]}) {
         if (!(plane >= p0 && plane <= p1)) continue;
-        const std::size_t k = c.corner;
-        const int x = static_cast<int>(k % stride[1]), y = static_cast<int>((k / stride[1]) % static_cast<std::size_t>(cy_)),
-                  z = static_cast<int>(k / stride[2]);
-        float q[3];
-        q[0] = static_cast<float>(grid_.coord(0, box.lo[0] + x));
-        q[1] = static_cast<float>(grid_.coord(1, box.lo[1] + y));
-        q[2] = static_cast<float>(grid_.coord(2, box.lo[2] + z));
+        float q[3] = {grid_.grid.coords[0][static_cast<std::size_t>(g[0])], grid_.grid.coords[1][static_cast<std::size_t>(g[1])],
+                      grid_.grid.coords[2][static_cast<std::size_t>(g[2])]};
         q[a] = static_cast<float>(plane);
         if (m >= cap_x_.size()) cap_x_.resize(m + 1), cap_y_.resize(m + 1), cap_z_.resize(m + 1);
         cap_x_[m] = q[0], cap_y_[m] = q[1], cap_z_[m] = q[2];
@@ -153,11 +152,6 @@ bool LeafMesher::process(const Tape& tape, const IndexBox& box, LeafRecord& out)
   }
 
   // Crossing positions: root finding (dual contouring) or linear interpolation (snap).
-  const auto corner_pos = [&](std::size_t k) {
-    const int x = static_cast<int>(k % stride[1]), y = static_cast<int>((k / stride[1]) % static_cast<std::size_t>(cy_)),
-              z = static_cast<int>(k / stride[2]);
-    return Vec3{grid_.coord(0, box.lo[0] + x), grid_.coord(1, box.lo[1] + y), grid_.coord(2, box.lo[2] + z)};
-  };
   if (o_.method == MeshMethod::DualContouring) {
     find_roots(tape);
   } else {
@@ -168,7 +162,7 @@ bool LeafMesher::process(const Tape& tape, const IndexBox& box, LeafRecord& out)
     }
   }
   for (Crossing& c : crossings_) {
-    const Vec3 p0 = corner_pos(c.corner), p1 = corner_pos(c.corner + stride[c.axis]);
+    const Vec3 p0 = corner_position(c.corner), p1 = corner_position(c.corner + stride[c.axis]);
     c.p = p0;
     c.p[c.axis] = p0[c.axis] + static_cast<double>(c.t) * (p1[c.axis] - p0[c.axis]);
   }
@@ -188,9 +182,15 @@ bool LeafMesher::process(const Tape& tape, const IndexBox& box, LeafRecord& out)
   return true;
 }
 
+const LeafMesher::Crossing& LeafMesher::crossing(std::size_t base, int e) const {
+  const std::int32_t s = edge_slot_[e / 4][base + off_[cell_edge_corner(e, 0)]];
+  FREP_ASSERT(s >= 0, "crossing missing");
+  return crossings_[static_cast<std::size_t>(s)];
+}
+
 void LeafMesher::find_roots(const Tape& tape) {
   const std::size_t n = crossings_.size();
-  const std::size_t stride[3] = {1, static_cast<std::size_t>(cx_), static_cast<std::size_t>(cx_) * cy_};
+  const std::size_t* stride = stride_;
   t_in_.resize(n);
   f_in_.resize(n);
   t_out_.resize(n);
@@ -230,13 +230,10 @@ void LeafMesher::find_roots(const Tape& tape) {
       }
       proposal[k] = t;
       const Crossing& c = crossings_[i];
-      const std::size_t k0 = c.corner;
       // Point on the edge (the corner coordinates of the low end, moved along the axis).
-      const int x = static_cast<int>(k0 % stride[1]), y = static_cast<int>((k0 / stride[1]) % static_cast<std::size_t>(cy_)),
-                z = static_cast<int>(k0 / stride[2]);
-      double p[3] = {grid_.coord(0, box_.lo[0] + x), grid_.coord(1, box_.lo[1] + y), grid_.coord(2, box_.lo[2] + z)};
-      const int gi = (c.axis == 0 ? box_.lo[0] + x : (c.axis == 1 ? box_.lo[1] + y : box_.lo[2] + z));
-      p[c.axis] += static_cast<double>(t) * (grid_.coord(c.axis, gi + 1) - p[c.axis]);
+      const auto g = grid_index(c.corner);
+      double p[3] = {grid_.coord(0, g[0]), grid_.coord(1, g[1]), grid_.coord(2, g[2])};
+      p[c.axis] += static_cast<double>(t) * (grid_.coord(c.axis, g[c.axis] + 1) - p[c.axis]);
       xs_[k] = static_cast<float>(p[0]);
       ys_[k] = static_cast<float>(p[1]);
       zs_[k] = static_cast<float>(p[2]);
@@ -296,18 +293,11 @@ void LeafMesher::find_normals(const Tape& tape) {
 }
 
 void LeafMesher::place_vertices_dc(LeafRecord& out) {
-  const std::size_t stride[3] = {1, static_cast<std::size_t>(cx_), static_cast<std::size_t>(cx_) * cy_};
-  std::size_t off[8];
-  for (int c = 0; c < 8; ++c) off[c] = (c & 1) * stride[0] + ((c >> 1) & 1) * stride[1] + ((c >> 2) & 1) * stride[2];
   const double h = grid_.h;
   for (std::size_t j = 0; j < out.cells.size(); ++j) {
     SurfaceCell& sc = out.cells[j];
     const std::size_t base = cell_index_[j];
-    const int x = static_cast<int>(base % stride[1]), y = static_cast<int>((base / stride[1]) % static_cast<std::size_t>(cy_)),
-              z = static_cast<int>(base / stride[2]);
-    const int g[3] = {box_.lo[0] + x, box_.lo[1] + y, box_.lo[2] + z};
-    const Vec3 lo{grid_.coord(0, g[0]), grid_.coord(1, g[1]), grid_.coord(2, g[2])};
-    const Vec3 hi{grid_.coord(0, g[0] + 1), grid_.coord(1, g[1] + 1), grid_.coord(2, g[2] + 1)};
+    const Vec3 lo = corner_position(base), hi = corner_position(base + off_[7]);
     const Vec3 size = (hi - lo) / h;  // about (1, 1, 1)
     const Box3 cell{{kInside, kInside, kInside}, size - Vec3{kInside, kInside, kInside}};
     const CellTopology& topo = cell_topology(sc.config, sc.decisions);
@@ -318,10 +308,7 @@ void LeafMesher::place_vertices_dc(LeafRecord& out) {
       Qef& q = qefs[v];
       Vec3 nsum;
       for (std::uint32_t bits = topo.edges[v]; bits; bits &= bits - 1) {
-        const int e = __builtin_ctz(bits);
-        const std::int32_t s = edge_slot_[e / 4][base + off[cell_edge_corner(e, 0)]];
-        FREP_ASSERT(s >= 0, "crossing missing");
-        const Crossing& c = crossings_[static_cast<std::size_t>(s)];
+        const Crossing& c = crossing(base, __builtin_ctz(bits));
         const Vec3 p = (c.p - lo) / h;
         const Vec3 nrm(c.n);
         if (nrm.x != 0 || nrm.y != 0 || nrm.z != 0) {
@@ -348,19 +335,12 @@ void LeafMesher::place_vertices_dc(LeafRecord& out) {
 }
 
 void LeafMesher::place_vertices_snap(const Tape& tape, LeafRecord& out) {
-  const std::size_t stride[3] = {1, static_cast<std::size_t>(cx_), static_cast<std::size_t>(cx_) * cy_};
-  std::size_t off[8];
-  for (int c = 0; c < 8; ++c) off[c] = (c & 1) * stride[0] + ((c >> 1) & 1) * stride[1] + ((c >> 2) & 1) * stride[2];
   const double h = grid_.h;
   keep_in_.clear();
   for (std::size_t j = 0; j < out.cells.size(); ++j) {
     SurfaceCell& sc = out.cells[j];
     const std::size_t base = cell_index_[j];
-    const int x = static_cast<int>(base % stride[1]), y = static_cast<int>((base / stride[1]) % static_cast<std::size_t>(cy_)),
-              z = static_cast<int>(base / stride[2]);
-    const int g[3] = {box_.lo[0] + x, box_.lo[1] + y, box_.lo[2] + z};
-    const Vec3 lo{grid_.coord(0, g[0]), grid_.coord(1, g[1]), grid_.coord(2, g[2])};
-    const Vec3 hi{grid_.coord(0, g[0] + 1), grid_.coord(1, g[1] + 1), grid_.coord(2, g[2] + 1)};
+    const Vec3 lo = corner_position(base), hi = corner_position(base + off_[7]);
     const Vec3 margin{kInside * h, kInside * h, kInside * h};
     const Box3 cell{lo + margin, hi - margin};
     const CellTopology& topo = cell_topology(sc.config, sc.decisions);
@@ -375,8 +355,7 @@ void LeafMesher::place_vertices_snap(const Tape& tape, LeafRecord& out) {
         Vec3 m;
         int count = 0;
         for (std::uint32_t bits = topo.edges[v]; bits; bits &= bits - 1) {
-          const int e = __builtin_ctz(bits);
-          m += crossings_[static_cast<std::size_t>(edge_slot_[e / 4][base + off[cell_edge_corner(e, 0)]])].p;
+          m += crossing(base, __builtin_ctz(bits)).p;
           ++count;
         }
         p = to_f32_inside(m / static_cast<double>(count), cell);

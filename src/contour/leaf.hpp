@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -94,10 +95,24 @@ class LeafMesher {
   BatchEvaluator batch_;
   GradEvaluator grad_;
   SurfaceSnapper snapper_;
-  // Leaf geometry of the current call.
+  // Leaf geometry of the current call. Corners are numbered x + cx_ (y + cy_ z) in the leaf.
   IndexBox box_;
   int ex_ = 0, ey_ = 0, ez_ = 0;  // cells per axis
-  int cx_ = 0, cy_ = 0;           // corners per row, per layer: cx_ = ex_ + 1, cy_ = ey_ + 1
+  int cx_ = 0, cy_ = 0, cz_ = 0;  // corners per axis (cells + 1)
+  std::size_t stride_[3] = {};    // corner index step along each axis
+  std::size_t off_[8] = {};       // corner index of a cell's corner c relative to its corner 0
+  // Grid indices of leaf corner k, and its position.
+  std::array<int, 3> grid_index(std::size_t k) const {
+    return {box_.lo[0] + static_cast<int>(k % stride_[1]),
+            box_.lo[1] + static_cast<int>((k / stride_[1]) % static_cast<std::size_t>(cy_)),
+            box_.lo[2] + static_cast<int>(k / stride_[2])};
+  }
+  Vec3 corner_position(std::size_t k) const {
+    const auto g = grid_index(k);
+    return {grid_.coord(0, g[0]), grid_.coord(1, g[1]), grid_.coord(2, g[2])};
+  }
+  // The crossing on edge e of the cell whose corner 0 is leaf corner `base`.
+  const Crossing& crossing(std::size_t base, int e) const;
   std::vector<float> xs_, ys_, zs_, values_;
   std::vector<std::int32_t> edge_slot_[3];  // per corner: crossing of the edge along axis a, or -1
   std::vector<Crossing> crossings_;
