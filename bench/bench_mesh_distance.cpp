@@ -17,6 +17,8 @@
 
 #include "frep/mesh/mesh_distance.hpp"
 #include "frep/mesh/mesh_io.hpp"
+#include "frep/mesh/topology.hpp"
+#include "frep/mesh/weld.hpp"
 
 namespace {
 
@@ -135,6 +137,14 @@ void BM_Frep_Build(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(frep::MeshDistance(f.mesh).num_triangles());
 }
 
+// The part of the build that is the shared mesh topology (edges, fans, shells, normals, shapes).
+void BM_Frep_Topology(benchmark::State& state) {
+  Fixture& f = fixture();
+  if (!f.ok) return state.SkipWithError("../shared/data/meshes/armadillo_libigl.obj is absent");
+  const frep::TriMesh welded = frep::weld(f.mesh).mesh;
+  for (auto _ : state) benchmark::DoNotOptimize(frep::MeshTopology(welded).num_edges());
+}
+
 void BM_Cgal_Build(benchmark::State& state) {
   Fixture& f = fixture();
   if (!f.ok) return state.SkipWithError("../shared/data/meshes/armadillo_libigl.obj is absent");
@@ -151,5 +161,6 @@ BENCHMARK(BM_Frep_Unsigned)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Cgal_ClosestPoint)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Frep_Signed)->Args({0, 0})->Args({1, 0})->Args({0, 1})->Args({1, 1})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Frep_Build)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Frep_Topology)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Cgal_Build)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

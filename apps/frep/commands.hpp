@@ -25,6 +25,7 @@ void register_render(CLI::App& app);
 void register_check(CLI::App& app);
 void register_sdf(CLI::App& app);
 void register_mesh(CLI::App& app);
+void register_export(CLI::App& app);
 
 inline void register_commands(CLI::App& app) {
   register_info(app);
@@ -33,6 +34,7 @@ inline void register_commands(CLI::App& app) {
   register_check(app);
   register_sdf(app);
   register_mesh(app);
+  register_export(app);
 }
 
 }  // namespace frep::cli

@@ -1,9 +1,57 @@
+// Loading an expression file: `.vm` and `.rhai` by extension, anything else by content.
 #include "frep/io/load.hpp"
 
+#include <string_view>
+
+#include "frep/io/atomic_file.hpp"
+#include "frep/io/rhai.hpp"
 #include "frep/io/vm.hpp"
 
 namespace frep {
+namespace {
 
-Model load_expression(const std::string& path) { return read_vm(path); }
+bool ends_with(const std::string& s, std::string_view suffix) {
+  return s.size() >= suffix.size() && std::string_view(s).substr(s.size() - suffix.size()) == suffix;
+}
+
+// A `.vm` file's first instruction line is `<id> <opcode> [args]`: a known opcode and as many
+// arguments as it takes (`#` starts a comment). A Rhai script's first line never is: its
+// comments start with `//`, and a statement such as `let square = ...` has `=` or parentheses.
+bool looks_like_vm(std::string_view text) {
+  auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; };
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    std::size_t eol = text.find('\n', pos);
+    if (eol == std::string_view::npos) eol = text.size();
+    std::string_view line = text.substr(pos, eol - pos);
+    pos = eol + 1;
+    if (std::size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+    std::string_view tok[5];
+    int n = 0;
+    for (std::size_t i = 0; i < line.size() && n < 5;) {
+      while (i < line.size() && is_space(line[i])) ++i;
+      std::size_t j = i;
+      while (j < line.size() && !is_space(line[j])) ++j;
+      if (j > i) tok[n++] = line.substr(i, j - i);
+      i = j;
+    }
+    if (n == 0) continue;  // blank or comment: look at the next line
+    if (n < 2 || line.find_first_of("=(){};[]\"") != std::string_view::npos) return false;
+    const auto op = op_from_name(tok[1]);
+    if (!op) return false;
+    return n - 2 == (*op == Op::Const ? 1 : op_arity(*op));
+  }
+  return false;
+}
+
+}  // namespace
+
+Model load_expression(const std::string& path) {
+  if (ends_with(path, ".vm")) return read_vm(path);
+  if (ends_with(path, ".rhai")) return read_rhai(path);
+  const std::string text = read_file(path);
+  if (looks_like_vm(text)) return parse_vm(text, path);
+  return parse_rhai(text, path);
+}
 
 }  // namespace frep

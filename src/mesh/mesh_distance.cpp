@@ -1,15 +1,37 @@
+// The signed-distance oracle: the 4-wide query hierarchy and its build, the pseudonormal sign
+// (normals from mesh/topology.hpp), the batch queries.
 #include "frep/mesh/mesh_distance.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 
 #include "frep/error.hpp"
+#include "frep/mesh/bvh.hpp"
+#include "frep/mesh/topology.hpp"
 #include "frep/mesh/weld.hpp"
 #include "frep/util/thread_pool.hpp"
 #include "mesh/mesh_simd.hpp"
 
 namespace frep {
+
+struct MeshDistance::Data {
+  struct Tri {
+    Vec3 a, b, c;
+  };
+  std::vector<mesh_detail::WideNode> wide;        // the query hierarchy
+  std::vector<mesh_detail::WideDipoles> dipoles;  // per wide node
+  std::vector<mesh_detail::TriPacket> packets;
+  std::vector<Tri> tri;                       // in BVH leaf order
+  std::vector<std::uint32_t> tri_id;          // leaf order -> mesh triangle index
+  std::vector<Vec3> face_normal;              // per mesh triangle, unit (zero if degenerate)
+  std::vector<Vec3> edge_normal;              // per topology edge
+  std::vector<std::array<std::uint32_t, 3>> tri_edges;  // per mesh triangle: edge k's id, or kNone
+  std::vector<Vec3> vertex_normal;            // per welded vertex
+  std::vector<Triangle> welded;               // per mesh triangle, welded vertex indices
+};
+
 namespace {
 
 constexpr double kFourPi = 4 * 3.14159265358979323846;
@@ -17,7 +39,9 @@ constexpr double kFourPi = 4 * 3.14159265358979323846;
 constexpr std::size_t kQueryGrain = 1024;
 
 // Closest point on triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5), with the
-// feature it lies on. Degenerate triangles fall back to their edges.
+// feature it lies on. Degenerate triangles fall back to their edges; an edge region is only
+// taken for an edge of non-zero length (the denominator is its squared length: a triangle with
+// two corners at one point used to give 0 / 0 there, a NaN distance).
 Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
   const double l2 = dot(ab, ab);
@@ -34,7 +58,7 @@ inline Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, con
   const double d3 = dot(ab, bp), d4 = dot(ac, bp);
   if (d3 >= 0 && d4 <= d3) return f = Feature::Vertex1, b;
   const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+  if (vc <= 0 && d1 >= 0 && d3 <= 0 && d1 - d3 > 0) {
     const double v = d1 / (d1 - d3);
     return f = Feature::Edge0, a + ab * v;
   }
@@ -42,12 +66,12 @@ inline Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, con
   const double d5 = dot(ab, cp), d6 = dot(ac, cp);
   if (d6 >= 0 && d5 <= d6) return f = Feature::Vertex2, c;
   const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+  if (vb <= 0 && d2 >= 0 && d6 <= 0 && d2 - d6 > 0) {
     const double w = d2 / (d2 - d6);
     return f = Feature::Edge2, a + ac * w;
   }
   const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0 && (d4 - d3) + (d5 - d6) > 0) {
     const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
     return f = Feature::Edge1, b + (c - b) * w;
   }
@@ -63,16 +87,6 @@ inline Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, con
   const double denom = 1.0 / sum;
   const double v = vb * denom, w = vc * denom;
   return f = Feature::Face, a + ab * v + ac * w;
-}
-
-// Signed solid angle of triangle abc seen from p (Van Oosterom and Strackee), positive when p
-// is on the side opposite to the right-hand normal.
-inline double solid_angle(const Vec3& p, const Vec3& a0, const Vec3& b0, const Vec3& c0) {
-  const Vec3 a = a0 - p, b = b0 - p, c = c0 - p;
-  const double la = length(a), lb = length(b), lc = length(c);
-  const double num = dot(a, cross(b, c));
-  const double den = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb;
-  return 2 * std::atan2(num, den);
 }
 
 // Winding-number data of a binary node: the triangles below act, from far away, as one dipole.
@@ -206,126 +220,129 @@ struct WideBuilder {
   }
 };
 
-}  // namespace
-
-MeshDistance::MeshDistance(const TriMesh& mesh, const MeshDistanceOptions& options) : options_(options) {
+// Squared distances and the winding number's triple products must neither overflow nor
+// underflow in double precision: refuse scales where they would, rather than answer wrongly.
+void check_range(const TriMesh& mesh) {
   if (mesh.triangles.empty()) throw InputError(mesh.name, 0, "mesh has no triangles");
-  // Squared distances and the winding number's triple products must neither overflow nor
-  // underflow in double precision: refuse scales where they would, rather than answer wrongly.
   double extent = 0, largest = 0;
-  {
-    Vec3 lo = mesh.vertices.empty() ? Vec3{} : mesh.vertices[0], hi = lo;
-    for (const Triangle& t : mesh.triangles)
-      for (std::uint32_t v : t) {
-        const Vec3& q = mesh.vertices[v];
-        for (int c = 0; c < 3; ++c) {
-          lo[c] = std::min(lo[c], q[c]);
-          hi[c] = std::max(hi[c], q[c]);
-          largest = std::max(largest, std::fabs(q[c]));
-        }
+  Vec3 lo = mesh.vertices.empty() ? Vec3{} : mesh.vertices[0], hi = lo;
+  for (const Triangle& t : mesh.triangles)
+    for (std::uint32_t v : t) {
+      const Vec3& q = mesh.vertices[v];
+      for (int c = 0; c < 3; ++c) {
+        lo[c] = std::min(lo[c], q[c]);
+        hi[c] = std::max(hi[c], q[c]);
+        largest = std::max(largest, std::fabs(q[c]));
       }
-    for (int c = 0; c < 3; ++c) extent = std::max(extent, hi[c] - lo[c]);
-  }
+    }
+  for (int c = 0; c < 3; ++c) extent = std::max(extent, hi[c] - lo[c]);
   if (largest > 1e100 || (extent > 0 && extent < 1e-90))
     throw InputError(mesh.name, 0,
                      "coordinates out of the range the distance oracle handles exactly (|x| <= 1e100, size >= "
                      "1e-90): rescale the mesh");
+}
+
+}  // namespace
+
+MeshDistance::MeshDistance(const TriMesh& mesh, const MeshDistanceOptions& options) {
+  mesh.check_consistent();
+  check_range(mesh);
   const WeldResult w = weld(mesh, {options.weld_tolerance});
-  const TriMesh& m = w.mesh;
+  *this = MeshDistance(w.mesh, MeshTopology(w.mesh), options);
+}
+
+MeshDistance::MeshDistance(const TriMesh& m, const MeshTopology& topo, const MeshDistanceOptions& options,
+                           const TriangleBvh* bvh)
+    : d_(std::make_unique<Data>()) {
+  m.check_consistent();
+  check_range(m);
+  FREP_ASSERT(topo.num_triangles() == m.triangles.size() && topo.num_vertices() == m.vertices.size(),
+              "topology of another mesh");
+  Data& d = *d_;
   const std::size_t nt = m.triangles.size();
-  welded_ = m.triangles;
-  BvhOptions bo;
-  bo.max_leaf_size = options.max_leaf_size;
-  const TriangleBvh bvh(m, bo);
-  tri_id_ = bvh.order();
-  tri_.resize(nt);
+  d.welded = m.triangles;
+  std::optional<TriangleBvh> own;
+  if (!bvh) {
+    BvhOptions bo;
+    bo.max_leaf_size = options.max_leaf_size;
+    bvh = &own.emplace(m, bo);
+  }
+  FREP_ASSERT(bvh->order().size() == nt, "hierarchy of another mesh");
+  d.tri_id = bvh->order();
+  d.tri.resize(nt);
   std::vector<std::array<Vec3, 3>> corners(nt);
   for (std::size_t i = 0; i < nt; ++i) {
-    const std::uint32_t t = tri_id_[i];
+    const std::uint32_t t = d.tri_id[i];
     corners[i] = {m.corner(t, 0), m.corner(t, 1), m.corner(t, 2)};
-    tri_[i] = {corners[i][0], corners[i][1], corners[i][2]};
+    d.tri[i] = {corners[i][0], corners[i][1], corners[i][2]};
   }
   const double beta2 = options.winding_beta * options.winding_beta;
-  WideBuilder{bvh.nodes(), corners, binary_dipoles(bvh.nodes(), corners), beta2, wide_, dipoles_, packets_}.node(0);
+  WideBuilder{bvh->nodes(), corners, binary_dipoles(bvh->nodes(), corners), beta2, d.wide, d.dipoles, d.packets}.node(0);
 
-  // Pseudonormals: unit face normals, edge normals as the sum over the edge's triangles, vertex
-  // normals weighted by the corner angles.
-  face_normal_.resize(nt);
-  vertex_normal_.assign(m.vertices.size(), Vec3{});
-  for (std::size_t t = 0; t < nt; ++t) {
-    const Vec3 a = m.corner(t, 0), b = m.corner(t, 1), c = m.corner(t, 2);
-    const Vec3 n = cross(b - a, c - a);
-    const double l = length(n);
-    face_normal_[t] = l > 0 ? n / l : Vec3{};
-    if (!(l > 0)) continue;
-    const Vec3 corner[3] = {a, b, c};
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 e1 = corner[(k + 1) % 3] - corner[k], e2 = corner[(k + 2) % 3] - corner[k];
-      const double angle = std::atan2(length(cross(e1, e2)), dot(e1, e2));
-      vertex_normal_[m.triangles[t][k]] += face_normal_[t] * angle;
-    }
+  // Pseudonormals from the topology. A collapsed triangle has no edges of its own there: its
+  // edges take the normal of the topology's edge between the same vertices, if there is one.
+  d.face_normal = topo.face_normals();
+  d.vertex_normal = topo.vertex_pseudonormals();
+  d.edge_normal.resize(topo.num_edges());
+  for (std::uint32_t e = 0; e < topo.num_edges(); ++e) d.edge_normal[e] = topo.edge_pseudonormal(e);
+  d.tri_edges.resize(nt);
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    d.tri_edges[t] = topo.triangle_edges(t);
+    if (!topo.usable(t))
+      for (int k = 0; k < 3; ++k) d.tri_edges[t][k] = topo.find_edge(m.triangles[t][k], m.triangles[t][(k + 1) % 3]);
   }
-  {
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;  // (edge key, triangle * 3 + k)
-    edges.reserve(3 * nt);
-    for (std::uint32_t t = 0; t < nt; ++t)
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t a = m.triangles[t][k], b = m.triangles[t][(k + 1) % 3];
-        edges.push_back({(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b), 3 * t + k});
-      }
-    std::sort(edges.begin(), edges.end());
-    edge_normal_.assign(3 * nt, Vec3{});
-    for (std::size_t i = 0; i < edges.size();) {
-      std::size_t j = i;
-      Vec3 sum;
-      while (j < edges.size() && edges[j].first == edges[i].first) sum += face_normal_[edges[j++].second / 3];
-      for (std::size_t k = i; k < j; ++k) edge_normal_[edges[k].second] = sum;
-      i = j;
-    }
-  }
-
 }
+
+MeshDistance::MeshDistance(MeshDistance&&) noexcept = default;
+MeshDistance& MeshDistance::operator=(MeshDistance&&) noexcept = default;
+MeshDistance::~MeshDistance() = default;
+
+std::size_t MeshDistance::num_triangles() const { return d_->tri.size(); }
 
 ClosestPoint MeshDistance::closest_point(const Vec3& p) const {
   // The SIMD search finds the nearest triangle; its closest point and feature come from the
   // scalar region test (the pseudonormal sign needs the feature).
   double d2 = INFINITY;
-  const std::uint32_t i = mesh_detail::nearest_triangle(wide_.data(), packets_.data(), p, d2);
-  if (i >= tri_.size()) return {NAN, p, 0, Feature::Face};  // a NaN coordinate: nothing is nearer than infinity
+  const std::uint32_t i = mesh_detail::nearest_triangle(d_->wide.data(), d_->packets.data(), p, d2);
+  if (i >= d_->tri.size()) return {NAN, p, 0, Feature::Face};  // a NaN coordinate: nothing is nearer than infinity
   Feature f;
-  const Tri& t = tri_[i];
+  const Data::Tri& t = d_->tri[i];
   const Vec3 q = closest_on_triangle(p, t.a, t.b, t.c, f);
   // Inside the face's prism the distance is the plane distance: computed from the normal it
   // does not inherit the rounding of the in-plane coordinates of q, which matters for huge
   // triangles (a face 1e38 wide would otherwise be off by about 1e22).
   if (f == Feature::Face) {
-    const Vec3& n = face_normal_[tri_id_[i]];
-    if (length2(n) > 0) return {std::fabs(dot(p - t.a, n)), q, tri_id_[i], f};
+    const Vec3& n = d_->face_normal[d_->tri_id[i]];
+    if (length2(n) > 0) return {std::fabs(dot(p - t.a, n)), q, d_->tri_id[i], f};
   }
-  return {length(p - q), q, tri_id_[i], f};
+  return {length(p - q), q, d_->tri_id[i], f};
 }
 
 double MeshDistance::winding_number(const Vec3& p) const {
-  return mesh_detail::solid_angle_sum(wide_.data(), dipoles_.data(), packets_.data(), p) / kFourPi;
+  return mesh_detail::solid_angle_sum(d_->wide.data(), d_->dipoles.data(), d_->packets.data(), p) / kFourPi;
 }
 
 double MeshDistance::winding_number_exact(const Vec3& p) const {
   double s = 0;
-  for (const Tri& t : tri_) s += solid_angle(p, t.a, t.b, t.c);
+  for (const Data::Tri& t : d_->tri) s += solid_angle(p, t.a, t.b, t.c);
   return s / kFourPi;
 }
 
 int MeshDistance::pseudonormal_sign(const Vec3& p, const ClosestPoint& c) const {
-  const Triangle& t = welded_[c.triangle];
+  const Triangle& t = d_->welded[c.triangle];
+  auto edge_normal = [&](int k) {
+    const std::uint32_t e = d_->tri_edges[c.triangle][k];
+    return e == MeshTopology::kNone ? Vec3{} : d_->edge_normal[e];
+  };
   Vec3 n;
   switch (c.feature) {
-    case Feature::Face: n = face_normal_[c.triangle]; break;
-    case Feature::Edge0: n = edge_normal_[3 * c.triangle]; break;
-    case Feature::Edge1: n = edge_normal_[3 * c.triangle + 1]; break;
-    case Feature::Edge2: n = edge_normal_[3 * c.triangle + 2]; break;
-    case Feature::Vertex0: n = vertex_normal_[t[0]]; break;
-    case Feature::Vertex1: n = vertex_normal_[t[1]]; break;
-    case Feature::Vertex2: n = vertex_normal_[t[2]]; break;
+    case Feature::Face: n = d_->face_normal[c.triangle]; break;
+    case Feature::Edge0: n = edge_normal(0); break;
+    case Feature::Edge1: n = edge_normal(1); break;
+    case Feature::Edge2: n = edge_normal(2); break;
+    case Feature::Vertex0: n = d_->vertex_normal[t[0]]; break;
+    case Feature::Vertex1: n = d_->vertex_normal[t[1]]; break;
+    case Feature::Vertex2: n = d_->vertex_normal[t[2]]; break;
   }
   const double s = dot(p - c.point, n);
   return s > 0 ? 1 : (s < 0 ? -1 : 0);

@@ -1,14 +1,16 @@
+// Mesh validation: one named check per kind of problem, all working on one welded copy of the
+// mesh and its topology (mesh/topology.hpp); the report's text and JSON forms.
 #include "frep/mesh/validate.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <mutex>
-#include <numeric>
+#include <optional>
 
 #include "frep/error.hpp"
 #include "frep/mesh/bvh.hpp"
 #include "frep/mesh/mesh_distance.hpp"
+#include "frep/mesh/topology.hpp"
 #include "frep/mesh/weld.hpp"
 #include "frep/util/thread_pool.hpp"
 #include "predicates.hpp"
@@ -43,9 +45,10 @@ const KindInfo kKinds[kDefectKinds] = {
     {"duplicate_vertices", "duplicate vertices (same position, merged)", false},
 };
 
+// Union-find whose roots are the smallest members.
 class UnionFind {
  public:
-  explicit UnionFind(std::size_t n) : p_(n) { std::iota(p_.begin(), p_.end(), 0u); }
+  explicit UnionFind(std::vector<std::uint32_t> parent) : p_(std::move(parent)) {}
   std::uint32_t find(std::uint32_t i) {
     while (p_[i] != i) i = p_[i] = p_[p_[i]];
     return i;
@@ -59,41 +62,411 @@ class UnionFind {
   std::vector<std::uint32_t> p_;
 };
 
-struct Collector {
-  ValidationReport& r;
-  const TriMesh& m;  // welded and scaled by 2^-exponent; triangle indices equal the file's
-  const std::vector<std::uint32_t>& original_of_welded;
-  std::size_t max_examples;
-  int exponent;  // the file's coordinates are m's times 2^exponent
+// An edge-connected piece of the surface, as the shell checks see it.
+struct Shell {
+  Box3 box;
+  double volume = 0;
+  std::uint32_t first = kNone;
+  std::uint32_t largest = kNone;  // its largest non-degenerate triangle
+  double largest_n2 = 0;          // |cross|^2 of that triangle
+  bool spatial = false;           // its corners are not all in one plane (exact)
+};
+
+// Contacts found by one thread of the intersection test, per kind (crossing, overlap, touching):
+// a count, and the smallest (a, b) pairs seen so far in a max-heap of at most `keep`, so memory
+// does not grow with the number of pairs and the examples do not depend on how pairs were
+// spread over the threads.
+struct alignas(64) PairTally {
+  using Pair = std::uint64_t;  // a << 32 | b, a < b
+  std::uint64_t count[3] = {0, 0, 0};
+  std::vector<Pair> best[3];
+
+  void add(int kind, std::uint32_t a, std::uint32_t b, std::size_t keep) {
+    ++count[kind];
+    if (keep == 0) return;
+    const Pair key = (Pair(std::min(a, b)) << 32) | std::max(a, b);
+    std::vector<Pair>& h = best[kind];
+    if (h.size() < keep) {
+      h.push_back(key);
+      std::push_heap(h.begin(), h.end());
+    } else if (key < h.front()) {
+      std::pop_heap(h.begin(), h.end());
+      h.back() = key;
+      std::push_heap(h.begin(), h.end());
+    }
+  }
+};
+
+// One validation: the welded, scaled mesh, its topology, and what the checks pass on to each
+// other (which triangles are flat, the shells, the intersection test's hierarchy).
+class Validation {
+ public:
+  Validation(const TriMesh& raw, const ValidationOptions& opt);
+
+  void check_vertices();
+  void check_triangles();
+  void check_duplicate_triangles();
+  void check_edges();
+  void check_vertex_fans();
+  void check_shells();
+  void check_self_intersections();
+  void check_shell_nesting();
+  ValidationReport finish();
+
+ private:
+  std::vector<std::pair<std::uint32_t, Vec3>> nesting_probes() const;
+  std::vector<double> winding_numbers_at(const std::vector<std::pair<std::uint32_t, Vec3>>& probes) const;
+
+  const TriMesh& raw_;
+  const ValidationOptions& opt_;
+  ValidationReport r_;
+  WeldResult w_;
+  const TriMesh& m_ = w_.mesh;  // welded and scaled by 2^-exponent_; triangle indices equal the file's
+  int exponent_ = 0;            // the file's coordinates are m_'s times 2^exponent_
+  MeshTopology topo_;
+  std::vector<char> flat_;  // zero area, collapsed or a later duplicate: skipped by the intersection test
+  std::vector<Shell> shells_;
+  double volume_ = 0;
+  std::optional<TriangleBvh> bvh_;  // of the intersection test
+  bool bvh_is_whole_ = false;       // over every triangle of m_ (then the nesting test reuses it)
 
   Vec3 unscale(const Vec3& p) const {
-    return {std::ldexp(p.x, exponent), std::ldexp(p.y, exponent), std::ldexp(p.z, exponent)};
+    return {std::ldexp(p.x, exponent_), std::ldexp(p.y, exponent_), std::ldexp(p.z, exponent_)};
   }
-
-  Defect& d(DefectKind k) { return r.defects[static_cast<int>(k)]; }
+  Defect& d(DefectKind k) { return r_.defects[static_cast<int>(k)]; }
   DefectLocation at_triangle(std::uint32_t t) const {
     DefectLocation l;
     l.triangle = t;
-    const FaceOrigin o = m.origin_of(t);
+    const FaceOrigin o = m_.origin_of(t);
     l.face = o.face;
     l.line = o.line;
-    l.point = unscale((m.corner(t, 0) + m.corner(t, 1) + m.corner(t, 2)) / 3.0);
+    l.point = unscale((m_.corner(t, 0) + m_.corner(t, 1) + m_.corner(t, 2)) / 3.0);
     return l;
   }
   void add(DefectKind k, const DefectLocation& l) {
     Defect& x = d(k);
     ++x.count;
-    if (x.examples.size() < max_examples) x.examples.push_back(l);
+    if (x.examples.size() < opt_.max_examples) x.examples.push_back(l);
+  }
+  bool closed_manifold() {
+    return d(DefectKind::OpenEdges).count == 0 && d(DefectKind::NonManifoldEdges).count == 0 &&
+           d(DefectKind::NonManifoldVertices).count == 0;
   }
 };
 
-// Signed solid angle of triangle abc seen from p (Van Oosterom and Strackee), positive when p is
-// on the side opposite to the right-hand normal: sums to 4 pi inside a closed outward surface.
-double solid_angle(const Vec3& p, const Vec3& a0, const Vec3& b0, const Vec3& c0) {
-  const Vec3 a = a0 - p, b = b0 - p, c = c0 - p;
-  const double la = length(a), lb = length(b), lc = length(c);
-  const double den = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb;
-  return 2 * std::atan2(dot(a, cross(b, c)), den);
+Validation::Validation(const TriMesh& raw, const ValidationOptions& opt)
+    : raw_(raw), opt_(opt), w_(weld(raw, {opt.weld_tolerance})) {
+  r_.file = raw.name;
+  r_.file_vertices = raw.vertices.size();
+  r_.triangles = raw.triangles.size();
+  for (int k = 0; k < kDefectKinds; ++k) r_.defects.push_back({static_cast<DefectKind>(k), 0, {}});
+  r_.welded_vertices = m_.vertices.size();
+  r_.box = bounding_box(m_);
+  // Everything below works on coordinates scaled by a power of two (exact) so that the largest
+  // magnitude is in [1/2, 1): the exact predicates' expansions neither overflow (1e200) nor
+  // lose bits to underflow (1e-110), and the volume's triple products stay finite. Lengths,
+  // areas and volumes are scaled back when reported.
+  double big = 0;
+  for (const Vec3& v : m_.vertices)
+    for (double x : {v.x, v.y, v.z})
+      if (std::isfinite(x)) big = std::max(big, std::fabs(x));
+  if (big > 0) std::frexp(big, &exponent_);
+  if (exponent_ != 0)
+    for (Vec3& v : w_.mesh.vertices) v = {std::ldexp(v.x, -exponent_), std::ldexp(v.y, -exponent_), std::ldexp(v.z, -exponent_)};
+  topo_ = MeshTopology(m_);
+  flat_.assign(m_.triangles.size(), 0);
+}
+
+// Unused vertices, and duplicates: vertices with a lower-numbered vertex at the same position
+// (indexed formats only: STL repeats every corner by design). Used vertices are grouped by the
+// weld (exact or within the tolerance); an unused vertex joins the group of any vertex at
+// exactly its position.
+void Validation::check_vertices() {
+  const std::size_t nv = raw_.vertices.size();
+  bool any_unused = false;
+  for (std::uint32_t v = 0; v < nv; ++v) any_unused = any_unused || w_.welded_of_original[v] == kNoVertex;
+  std::optional<UnionFind> same;  // only needed when unused vertices can be duplicates
+  if (raw_.indexed && any_unused) {
+    same.emplace(first_at_same_position(raw_.vertices));
+    for (std::uint32_t v = 0; v < nv; ++v)
+      if (w_.welded_of_original[v] != kNoVertex) same->unite(v, w_.original_of_welded[w_.welded_of_original[v]]);
+  }
+  for (std::uint32_t v = 0; v < nv; ++v) {
+    DefectLocation l;
+    l.vertex = v;
+    l.point = raw_.vertices[v];
+    const bool unused = w_.welded_of_original[v] == kNoVertex;
+    if (unused) add(DefectKind::UnusedVertices, l);
+    const bool duplicate =
+        same ? same->find(v) != v : !unused && w_.original_of_welded[w_.welded_of_original[v]] != v;
+    if (raw_.indexed && duplicate) add(DefectKind::DuplicateVertices, l);
+  }
+}
+
+// Collapsed (repeated index), zero area (exactly collinear), needles; the total area.
+void Validation::check_triangles() {
+  for (std::uint32_t t = 0; t < m_.triangles.size(); ++t) {
+    if (!topo_.usable(t)) {
+      flat_[t] = 1;
+      add(DefectKind::CollapsedTriangles, at_triangle(t));
+      continue;
+    }
+    const Vec3 a = m_.corner(t, 0), b = m_.corner(t, 1), c = m_.corner(t, 2);
+    const Vec3 n = cross(b - a, c - a);
+    r_.area += 0.5 * length(n);
+    const bool collinear = exact::orient2d(a.x, a.y, b.x, b.y, c.x, c.y) == 0 &&
+                           exact::orient2d(a.y, a.z, b.y, b.z, c.y, c.z) == 0 &&
+                           exact::orient2d(a.z, a.x, b.z, b.x, c.z, c.x) == 0;
+    if (collinear) {
+      flat_[t] = 1;
+      add(DefectKind::ZeroAreaTriangles, at_triangle(t));
+      continue;
+    }
+    const double e2 = length2(b - a) + length2(c - b) + length2(a - c);
+    if (4 * std::sqrt(3.0) * 0.5 * length(n) < opt_.needle_quality * e2) add(DefectKind::NeedleTriangles, at_triangle(t));
+  }
+}
+
+// Duplicate triangles: same vertex set as an earlier triangle. Sorted once; each run of equal
+// keys names its first triangle. Copies are left out of the intersection test, where they
+// would pair with every other copy.
+void Validation::check_duplicate_triangles() {
+  std::vector<std::pair<Triangle, std::uint32_t>> keys;
+  keys.reserve(m_.triangles.size());
+  for (std::uint32_t t = 0; t < m_.triangles.size(); ++t)
+    if (topo_.usable(t)) {
+      Triangle s = m_.triangles[t];
+      std::sort(s.begin(), s.end());
+      keys.push_back({s, t});
+    }
+  std::sort(keys.begin(), keys.end());
+  for (std::size_t i = 0, j; i < keys.size(); i = j) {
+    for (j = i + 1; j < keys.size() && keys[j].first == keys[i].first; ++j) {
+      DefectLocation l = at_triangle(keys[j].second);
+      l.other = keys[i].second;
+      add(DefectKind::DuplicateTriangles, l);
+      flat_[keys[j].second] = 1;
+    }
+  }
+}
+
+// Open edges (one triangle), non-manifold edges (more than two), inconsistent orientation (two
+// triangles traversing the edge the same way).
+void Validation::check_edges() {
+  r_.edges = topo_.num_edges();
+  for (std::uint32_t e = 0; e < topo_.num_edges(); ++e) {
+    const auto faces = topo_.edge_faces(e);
+    if (faces.size() == 2 && topo_.consistent(e)) continue;
+    const auto [a, b] = topo_.edge_vertices(e);
+    DefectLocation l = at_triangle(faces[0]);
+    l.point = unscale((m_.vertices[a] + m_.vertices[b]) * 0.5);
+    l.vertex = w_.original_of_welded[a];
+    if (faces.size() > 1) l.other = faces[1];
+    add(faces.size() == 1   ? DefectKind::OpenEdges
+        : faces.size() > 2 ? DefectKind::NonManifoldEdges
+                           : DefectKind::InconsistentOrientation,
+        l);
+  }
+}
+
+// Non-manifold vertices: the triangles around a vertex, joined through manifold edges at it,
+// must form a single fan.
+void Validation::check_vertex_fans() {
+  for (std::uint32_t v = 0; v < topo_.num_vertices(); ++v) {
+    if (!topo_.pinched(v)) continue;
+    DefectLocation l = at_triangle(topo_.vertex_faces(v)[0]);
+    l.vertex = w_.original_of_welded[v];
+    l.point = unscale(m_.vertices[v]);
+    add(DefectKind::NonManifoldVertices, l);
+  }
+}
+
+// Shells: boxes, and signed volumes summed about the shell's box center rather than the origin,
+// where far from the origin the tetrahedra cancel catastrophically (a unit sphere at 1e6 came
+// out with the wrong sign). On a closed, manifold, consistently oriented surface: the genus,
+// shells that enclose no volume, and a negative total volume.
+void Validation::check_shells() {
+  shells_.resize(topo_.num_shells());
+  r_.components = shells_.size();
+  for (std::uint32_t i = 0; i < shells_.size(); ++i) {
+    Shell& s = shells_[i];
+    const auto faces = topo_.shell_faces(i);
+    s.first = faces[0];
+    for (std::uint32_t t : faces)
+      for (std::uint32_t v : m_.triangles[t]) s.box.add(m_.vertices[v]);
+    const Vec3 o = s.box.center();
+    for (std::uint32_t t : faces) {
+      const Vec3 a = m_.corner(t, 0) - o, b = m_.corner(t, 1) - o, c = m_.corner(t, 2) - o;
+      s.volume += dot(a, cross(b, c)) / 6.0;
+      if (flat_[t]) continue;
+      const double n2 = length2(cross(b - a, c - a));
+      if (s.largest == kNone || n2 > s.largest_n2) s.largest = t, s.largest_n2 = n2;
+    }
+    // A shell encloses volume only if its corners span space: compare every corner with the
+    // plane of the shell's largest triangle until one is off it (usually the first few).
+    if (s.largest == kNone) continue;
+    const Vec3 a = m_.corner(s.largest, 0), b = m_.corner(s.largest, 1), c = m_.corner(s.largest, 2);
+    for (std::size_t k = 0; k < faces.size() && !s.spatial; ++k)
+      for (int j = 0; j < 3 && !s.spatial; ++j) s.spatial = exact::orient3d(a, b, c, m_.corner(faces[k], j)) != 0;
+  }
+  for (const Shell& s : shells_) volume_ += s.volume;
+
+  if (!closed_manifold() || d(DefectKind::InconsistentOrientation).count != 0) return;
+  r_.genus = (2 * std::int64_t(r_.components) - topo_.euler_characteristic()) / 2;
+  // Each shell must enclose volume; with several, their orientations and nesting are checked
+  // by winding numbers once it is known that they do not cross (check_shell_nesting).
+  for (const Shell& s : shells_)
+    if (s.largest == kNone || !s.spatial || s.volume == 0) add(DefectKind::DegenerateShells, at_triangle(s.first));
+  if (volume_ < 0) {
+    DefectLocation l;
+    if (shells_.size() == 1) l = at_triangle(shells_[0].first);
+    else l.point = r_.box.lo * 0.5 + r_.box.hi * 0.5;
+    add(DefectKind::InwardOrientation, l);
+  }
+}
+
+// Self-intersections: candidate pairs from a hierarchy over the triangles that can intersect
+// anything, classified exactly: crossing, coplanar overlap (or fold), touching.
+void Validation::check_self_intersections() {
+  const std::size_t nt = m_.triangles.size();
+  if (!opt_.self_intersections || nt <= 1) return;
+  r_.self_intersections_checked = true;
+  std::vector<std::uint32_t> live;
+  for (std::uint32_t t = 0; t < nt; ++t)
+    if (!flat_[t]) live.push_back(t);
+  bvh_is_whole_ = live.size() == nt;
+  if (bvh_is_whole_) {
+    bvh_.emplace(m_);
+  } else {
+    TriMesh sub;
+    sub.vertices = m_.vertices;
+    for (std::uint32_t t : live) sub.triangles.push_back(m_.triangles[t]);
+    bvh_.emplace(sub);
+  }
+  const int threads = std::min(resolve_thread_count(opt_.threads), 1024);
+  std::vector<PairTally> found(threads);
+  bvh_->for_each_overlapping_pair_parallel(threads, [&](std::uint32_t a, std::uint32_t b, int th) {
+    a = live[a], b = live[b];
+    const Triangle &ta = m_.triangles[a], &tb = m_.triangles[b];
+    const Vec3 p[3] = {m_.vertices[ta[0]], m_.vertices[ta[1]], m_.vertices[ta[2]]};
+    const Vec3 q[3] = {m_.vertices[tb[0]], m_.vertices[tb[1]], m_.vertices[tb[2]]};
+    const unsigned pi[3] = {ta[0], ta[1], ta[2]}, qi[3] = {tb[0], tb[1], tb[2]};
+    const Contact k = classify_triangle_pair(p, pi, q, qi);
+    if (k != Contact::None) found[th].add(k == Contact::Cross ? 0 : (k == Contact::Overlap ? 1 : 2), a, b, opt_.max_examples);
+  });
+  const DefectKind kinds[3] = {DefectKind::SelfIntersections, DefectKind::Overlaps, DefectKind::TouchingPairs};
+  for (int kind = 0; kind < 3; ++kind) {
+    std::vector<PairTally::Pair> all;
+    Defect& x = d(kinds[kind]);
+    for (const PairTally& f : found) {
+      x.count += f.count[kind];
+      all.insert(all.end(), f.best[kind].begin(), f.best[kind].end());
+    }
+    std::sort(all.begin(), all.end());
+    for (std::size_t i = 0; i < all.size() && x.examples.size() < opt_.max_examples; ++i) {
+      DefectLocation l = at_triangle(std::uint32_t(all[i] >> 32));
+      l.other = std::uint32_t(all[i]);
+      x.examples.push_back(l);
+    }
+  }
+}
+
+// Several closed, consistently oriented shells that do not cross: just outside each shell's
+// largest triangle (on its normal's side) the winding number of the whole mesh must be 0. It
+// is -1 there for an inward shell that is not a cavity, and 2 - 1 = 1 for an outward shell
+// nested in another outward one (or a cavity inside a cavity).
+void Validation::check_shell_nesting() {
+  if (!closed_manifold() || d(DefectKind::InconsistentOrientation).count != 0 || shells_.size() <= 1 ||
+      d(DefectKind::SelfIntersections).count != 0 || d(DefectKind::Overlaps).count != 0)
+    return;
+  const std::vector<std::pair<std::uint32_t, Vec3>> probes = nesting_probes();
+  const std::vector<double> wn = winding_numbers_at(probes);
+  for (std::size_t k = 0; k < probes.size(); ++k)
+    if (!(std::fabs(wn[k]) < 0.5)) add(DefectKind::ShellOrientation, at_triangle(shells_[probes[k].first].largest));
+}
+
+// Per shell that spans space: a point just off its largest triangle, on the normal's side. The
+// offset from the centroid is a small fraction of the inradius (|n| / perimeter), doubled until
+// the point is strictly on that side by the exact predicate.
+std::vector<std::pair<std::uint32_t, Vec3>> Validation::nesting_probes() const {
+  std::vector<std::pair<std::uint32_t, Vec3>> probes;  // (shell, point)
+  for (std::uint32_t i = 0; i < shells_.size(); ++i) {
+    const Shell& s = shells_[i];
+    if (s.largest == kNone || !s.spatial) continue;
+    const Vec3 a = m_.corner(s.largest, 0), b = m_.corner(s.largest, 1), c = m_.corner(s.largest, 2);
+    const Vec3 n = cross(b - a, c - a), g = (a + b + c) / 3.0;
+    double delta = 1e-3 * length(n) / (length(b - a) + length(c - b) + length(a - c));
+    const Vec3 u = n / length(n);
+    for (int it = 0; it < 64; ++it, delta *= 2) {
+      const Vec3 p = g + u * delta;
+      if (exact::orient3d(a, b, c, p) > 0) {
+        probes.push_back({i, p});
+        break;
+      }
+    }
+  }
+  return probes;
+}
+
+// The whole mesh's winding number at each probe. A closed shell's winding number is 0 outside
+// its box, so only the shells whose boxes contain a probe count: found through a hierarchy over
+// the shell boxes (each box as a "triangle" from its low to its high corner), then summed
+// exactly over their triangles. Disjoint shells cost about one pass over the mesh; if nesting
+// makes the exact sums too expensive, the hierarchical (far-field dipole) winding number of the
+// whole mesh is used, built on the welded mesh, its topology and, if it covers every triangle,
+// the intersection test's hierarchy.
+std::vector<double> Validation::winding_numbers_at(const std::vector<std::pair<std::uint32_t, Vec3>>& probes) const {
+  std::vector<std::size_t> live_faces(shells_.size(), 0);  // per shell: triangles not flat
+  TriMesh box_mesh;
+  for (std::uint32_t i = 0; i < shells_.size(); ++i) {
+    for (std::uint32_t t : topo_.shell_faces(i)) live_faces[i] += !flat_[t];
+    box_mesh.vertices.push_back(shells_[i].box.lo);
+    box_mesh.vertices.push_back(shells_[i].box.hi);
+    box_mesh.triangles.push_back({2 * i, 2 * i + 1, 2 * i});
+  }
+  const TriangleBvh box_bvh(box_mesh);
+  std::vector<std::vector<std::uint32_t>> around(probes.size());  // shells whose box holds the probe
+  std::size_t work = 0;
+  std::vector<std::uint32_t> stack;
+  for (std::size_t k = 0; k < probes.size(); ++k) {
+    const Vec3& p = probes[k].second;
+    stack.assign(1, 0);
+    while (!stack.empty()) {
+      const TriangleBvh::Node& n = box_bvh.nodes()[stack.back()];
+      stack.pop_back();
+      if (!(n.lo[0] <= p.x && p.x <= n.hi[0] && n.lo[1] <= p.y && p.y <= n.hi[1] && n.lo[2] <= p.z && p.z <= n.hi[2]))
+        continue;
+      if (!n.leaf()) {
+        stack.push_back(n.index);
+        stack.push_back(n.index + 1);
+        continue;
+      }
+      for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
+        const std::uint32_t j = box_bvh.order()[i];
+        if (shells_[j].box.contains(p)) around[k].push_back(j), work += live_faces[j];
+      }
+    }
+  }
+  std::vector<double> wn(probes.size(), 0.0);
+  if (work <= (std::size_t(1) << 23)) {
+    for (std::size_t k = 0; k < probes.size(); ++k) {
+      double sum = 0;
+      for (std::uint32_t j : around[k])
+        for (std::uint32_t t : topo_.shell_faces(j))
+          if (!flat_[t]) sum += solid_angle(probes[k].second, m_.corner(t, 0), m_.corner(t, 1), m_.corner(t, 2));
+      wn[k] = sum / (4 * 3.14159265358979323846);
+    }
+  } else {
+    const MeshDistance md(m_, topo_, {}, bvh_is_whole_ ? &*bvh_ : nullptr);
+    for (std::size_t k = 0; k < probes.size(); ++k) wn[k] = md.winding_number(probes[k].second);
+  }
+  return wn;
+}
+
+ValidationReport Validation::finish() {
+  r_.area = std::ldexp(r_.area, 2 * exponent_);
+  r_.volume = std::ldexp(volume_, 3 * exponent_);
+  return std::move(r_);
 }
 
 }  // namespace
@@ -103,432 +476,16 @@ const char* defect_description(DefectKind k) { return kKinds[static_cast<int>(k)
 bool defect_is_fatal(DefectKind k) { return kKinds[static_cast<int>(k)].fatal; }
 
 ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt) {
-  ValidationReport r;
-  r.file = raw.name;
-  r.file_vertices = raw.vertices.size();
-  r.triangles = raw.triangles.size();
-  for (int k = 0; k < kDefectKinds; ++k) r.defects.push_back({static_cast<DefectKind>(k), 0, {}});
-
-  WeldResult w = weld(raw, {opt.weld_tolerance});
-  TriMesh& m = w.mesh;
-  r.welded_vertices = m.vertices.size();
-  r.box = bounding_box(m);
-  // Everything below works on coordinates scaled by a power of two (exact) so that the largest
-  // magnitude is in [1/2, 1): the exact predicates' expansions neither overflow (1e200) nor
-  // lose bits to underflow (1e-110), and the volume's triple products stay finite. Lengths,
-  // areas and volumes are scaled back when reported.
-  int exponent = 0;
-  {
-    double big = 0;
-    for (const Vec3& v : m.vertices)
-      for (double x : {v.x, v.y, v.z})
-        if (std::isfinite(x)) big = std::max(big, std::fabs(x));
-    if (big > 0) std::frexp(big, &exponent);
-    if (exponent != 0)
-      for (Vec3& v : m.vertices) v = {std::ldexp(v.x, -exponent), std::ldexp(v.y, -exponent), std::ldexp(v.z, -exponent)};
-  }
-  Collector c{r, m, w.original_of_welded, opt.max_examples, exponent};
-  const std::size_t nt = m.triangles.size(), nv = m.vertices.size();
-
-  // Vertices: unused in the file, and duplicates merged by welding.
-  for (std::uint32_t v = 0; v < raw.vertices.size(); ++v) {
-    if (w.welded_of_original[v] == kNoVertex) {
-      DefectLocation l;
-      l.vertex = v;
-      l.point = raw.vertices[v];
-      c.add(DefectKind::UnusedVertices, l);
-    } else if (w.original_of_welded[w.welded_of_original[v]] != v) {
-      DefectLocation l;
-      l.vertex = v;
-      l.point = raw.vertices[v];
-      // STL repeats every corner by design; only indexed formats have "duplicate" vertices.
-      if (raw.indexed) c.add(DefectKind::DuplicateVertices, l);
-    }
-  }
-
-  // Triangles: collapsed (repeated index), zero area (exactly collinear), needles; area.
-  std::vector<char> usable(nt, 1);  // non-collapsed: take part in topology
-  std::vector<char> flat(nt, 0);    // zero area or a duplicate: skipped by the intersection test
-  for (std::uint32_t t = 0; t < nt; ++t) {
-    const Triangle& tr = m.triangles[t];
-    if (tr[0] == tr[1] || tr[1] == tr[2] || tr[0] == tr[2]) {
-      usable[t] = 0;
-      flat[t] = 1;
-      c.add(DefectKind::CollapsedTriangles, c.at_triangle(t));
-      continue;
-    }
-    const Vec3 a = m.vertices[tr[0]], b = m.vertices[tr[1]], cc = m.vertices[tr[2]];
-    const Vec3 n = cross(b - a, cc - a);
-    r.area += 0.5 * length(n);
-    const bool collinear = exact::orient2d(a.x, a.y, b.x, b.y, cc.x, cc.y) == 0 &&
-                           exact::orient2d(a.y, a.z, b.y, b.z, cc.y, cc.z) == 0 &&
-                           exact::orient2d(a.z, a.x, b.z, b.x, cc.z, cc.x) == 0;
-    if (collinear) {
-      flat[t] = 1;
-      c.add(DefectKind::ZeroAreaTriangles, c.at_triangle(t));
-      continue;
-    }
-    const double e2 = length2(b - a) + length2(cc - b) + length2(a - cc);
-    if (4 * std::sqrt(3.0) * 0.5 * length(n) < opt.needle_quality * e2) c.add(DefectKind::NeedleTriangles, c.at_triangle(t));
-  }
-
-  // Duplicate triangles: same vertex set as an earlier triangle. Sorted once; each run of equal
-  // keys names its first triangle. Copies are left out of the intersection test, where they
-  // would pair with every other copy.
-  {
-    std::vector<std::pair<Triangle, std::uint32_t>> keys;
-    keys.reserve(nt);
-    for (std::uint32_t t = 0; t < nt; ++t)
-      if (usable[t]) {
-        Triangle s = m.triangles[t];
-        std::sort(s.begin(), s.end());
-        keys.push_back({s, t});
-      }
-    std::sort(keys.begin(), keys.end());
-    for (std::size_t i = 0, j; i < keys.size(); i = j) {
-      for (j = i + 1; j < keys.size() && keys[j].first == keys[i].first; ++j) {
-        DefectLocation l = c.at_triangle(keys[j].second);
-        l.other = keys[i].second;
-        c.add(DefectKind::DuplicateTriangles, l);
-        flat[keys[j].second] = 1;
-      }
-    }
-  }
-
-  // Edges: sort directed half-edges by their undirected key.
-  struct HalfEdge {
-    std::uint64_t key;  // min << 32 | max
-    std::uint32_t tri;
-    std::uint8_t forward;  // traversed min -> max
-    bool operator<(const HalfEdge& o) const { return key != o.key ? key < o.key : tri < o.tri; }
-  };
-  std::vector<HalfEdge> he;
-  he.reserve(3 * nt);
-  for (std::uint32_t t = 0; t < nt; ++t) {
-    if (!usable[t]) continue;
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = m.triangles[t][k], b = m.triangles[t][(k + 1) % 3];
-      he.push_back({(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b), t, std::uint8_t(a < b)});
-    }
-  }
-  std::sort(he.begin(), he.end());
-  UnionFind comp(nt);
-  // Manifold edges (exactly two triangles) link the fans around their endpoints.
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> fan_links;  // (vertex << 32 | other end, tri)
-  std::vector<char> vertex_on_edge_defect(nv, 0);
-  for (std::size_t i = 0; i < he.size();) {
-    std::size_t j = i;
-    while (j < he.size() && he[j].key == he[i].key) ++j;
-    const std::size_t count = j - i;
-    ++r.edges;
-    const std::uint32_t a = std::uint32_t(he[i].key >> 32), b = std::uint32_t(he[i].key);
-    auto loc = [&] {
-      DefectLocation l = c.at_triangle(he[i].tri);
-      l.point = c.unscale((m.vertices[a] + m.vertices[b]) * 0.5);
-      l.vertex = w.original_of_welded[a];
-      if (count > 1) l.other = he[i + 1].tri;
-      return l;
-    };
-    for (std::size_t k = i + 1; k < j; ++k) comp.unite(he[i].tri, he[k].tri);
-    if (count == 1) {
-      c.add(DefectKind::OpenEdges, loc());
-    } else if (count > 2) {
-      c.add(DefectKind::NonManifoldEdges, loc());
-    } else {
-      if (he[i].forward == he[i + 1].forward) c.add(DefectKind::InconsistentOrientation, loc());
-      for (std::size_t k = i; k < j; ++k) {
-        fan_links.push_back({(std::uint64_t(a) << 32) | b, he[k].tri});
-        fan_links.push_back({(std::uint64_t(b) << 32) | a, he[k].tri});
-      }
-    }
-    i = j;
-  }
-  // Shells (edge-connected pieces): dense ids in order of their first triangle (the union-find
-  // root is the smallest triangle index), boxes, and signed volumes summed about the shell's box
-  // center rather than the origin, where far from the origin the tetrahedra cancel
-  // catastrophically (a unit sphere at 1e6 came out with the wrong sign).
-  struct Shell {
-    Box3 box;
-    double volume = 0;
-    std::uint32_t first = kNone;
-    std::uint32_t largest = kNone;  // its largest non-degenerate triangle
-    double largest_n2 = 0;          // |cross|^2 of that triangle
-    bool spatial = false;           // its corners are not all in one plane (exact)
-  };
-  std::vector<Shell> shells;
-  std::vector<std::uint32_t> shell_of(nt, kNone);
-  for (std::uint32_t t = 0; t < nt; ++t) {
-    if (!usable[t]) continue;
-    const std::uint32_t root = comp.find(t);
-    if (root == t) {
-      shell_of[t] = std::uint32_t(shells.size());
-      shells.emplace_back().first = t;
-    } else {
-      shell_of[t] = shell_of[root];
-    }
-    for (std::uint32_t v : m.triangles[t]) shells[shell_of[t]].box.add(m.vertices[v]);
-  }
-  r.components = shells.size();
-  for (std::uint32_t t = 0; t < nt; ++t) {
-    if (!usable[t]) continue;
-    Shell& s = shells[shell_of[t]];
-    const Vec3 o = s.box.center();
-    const Vec3 a = m.corner(t, 0) - o, b = m.corner(t, 1) - o, cc = m.corner(t, 2) - o;
-    s.volume += dot(a, cross(b, cc)) / 6.0;
-    if (flat[t]) continue;
-    const double n2 = length2(cross(b - a, cc - a));
-    if (s.largest == kNone || n2 > s.largest_n2) s.largest = t, s.largest_n2 = n2;
-  }
-  // A shell encloses volume only if its corners span space: compare every corner with the plane
-  // of the shell's largest triangle until one is off it (usually the first few).
-  for (std::uint32_t t = 0; t < nt; ++t) {
-    if (!usable[t]) continue;
-    Shell& s = shells[shell_of[t]];
-    if (s.spatial || s.largest == kNone) continue;
-    const Vec3 a = m.corner(s.largest, 0), b = m.corner(s.largest, 1), cc = m.corner(s.largest, 2);
-    for (int k = 0; k < 3 && !s.spatial; ++k) s.spatial = exact::orient3d(a, b, cc, m.corner(t, k)) != 0;
-  }
-  double volume = 0;
-  for (const Shell& s : shells) volume += s.volume;
-
-  // Non-manifold vertices: the triangles around a vertex, joined through manifold edges at it,
-  // must form a single fan.
-  {
-    std::vector<std::uint32_t> first(nv + 1, 0);
-    for (std::uint32_t t = 0; t < nt; ++t)
-      if (usable[t])
-        for (std::uint32_t v : m.triangles[t]) ++first[v + 1];
-    for (std::size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
-    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1), incident(first[nv]);
-    for (std::uint32_t t = 0; t < nt; ++t)
-      if (usable[t])
-        for (std::uint32_t v : m.triangles[t]) incident[fill[v]++] = t;
-    std::sort(fan_links.begin(), fan_links.end());
-    // Local union-find over the incident triangles of one vertex at a time.
-    std::vector<std::uint32_t> parent;
-    std::size_t li = 0;
-    for (std::uint32_t v = 0; v < nv; ++v) {
-      const std::uint32_t b = first[v], e = first[v + 1];
-      if (e - b <= 1) {
-        while (li < fan_links.size() && (fan_links[li].first >> 32) == v) ++li;
-        continue;
-      }
-      parent.resize(e - b);
-      std::iota(parent.begin(), parent.end(), 0u);
-      auto slot = [&](std::uint32_t t) {
-        const std::size_t k = static_cast<std::size_t>(
-            std::lower_bound(incident.begin() + b, incident.begin() + e, t) - (incident.begin() + b));
-        FREP_ASSERT(k < e - b, "fan link to a triangle not incident to the vertex");
-        return static_cast<std::uint32_t>(k);
-      };
-      auto root = [&](std::uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-      };
-      std::size_t groups = e - b;
-      while (li < fan_links.size() && (fan_links[li].first >> 32) == v) {
-        std::size_t lj = li;
-        while (lj < fan_links.size() && fan_links[lj].first == fan_links[li].first) ++lj;
-        for (std::size_t k = li + 1; k < lj; ++k) {
-          const std::uint32_t x = root(slot(fan_links[li].second)), y = root(slot(fan_links[k].second));
-          if (x != y) parent[std::max(x, y)] = std::min(x, y), --groups;
-        }
-        li = lj;
-      }
-      if (groups > 1) {
-        DefectLocation l = c.at_triangle(incident[b]);
-        l.vertex = w.original_of_welded[v];
-        l.point = c.unscale(m.vertices[v]);
-        c.add(DefectKind::NonManifoldVertices, l);
-      }
-    }
-  }
-
-  const bool closed_manifold = c.d(DefectKind::OpenEdges).count == 0 && c.d(DefectKind::NonManifoldEdges).count == 0 &&
-                               c.d(DefectKind::NonManifoldVertices).count == 0;
-  if (closed_manifold && c.d(DefectKind::InconsistentOrientation).count == 0) {
-    std::size_t used_vertices = 0;
-    std::vector<char> used(nv, 0);
-    std::size_t faces = 0;
-    for (std::uint32_t t = 0; t < nt; ++t)
-      if (usable[t]) {
-        ++faces;
-        for (std::uint32_t v : m.triangles[t]) used_vertices += !used[v], used[v] = 1;
-      }
-    const std::int64_t chi = std::int64_t(used_vertices) - std::int64_t(r.edges) + std::int64_t(faces);
-    r.genus = (2 * std::int64_t(r.components) - chi) / 2;
-    // Each shell must enclose volume; with several, their orientations and nesting are checked
-    // below by winding numbers, once it is known that they do not cross.
-    for (const Shell& s : shells)
-      if (s.largest == kNone || !s.spatial || s.volume == 0) c.add(DefectKind::DegenerateShells, c.at_triangle(s.first));
-    if (volume < 0) {
-      DefectLocation l;
-      if (shells.size() == 1) l = c.at_triangle(shells[0].first);
-      else l.point = r.box.lo * 0.5 + r.box.hi * 0.5;
-      c.add(DefectKind::InwardOrientation, l);
-    }
-  }
-
-  // Self-intersections: candidate pairs from the BVH, classified exactly.
-  if (opt.self_intersections && nt > 1) {
-    r.self_intersections_checked = true;
-    // Only triangles that can intersect anything go into the hierarchy.
-    std::vector<std::uint32_t> live;
-    for (std::uint32_t t = 0; t < nt; ++t)
-      if (!flat[t]) live.push_back(t);
-    TriMesh sub;
-    if (live.size() < nt) {
-      sub.vertices = m.vertices;
-      for (std::uint32_t t : live) sub.triangles.push_back(m.triangles[t]);
-    }
-    const TriangleBvh bvh(live.size() < nt ? sub : m);
-    const int threads = std::min(resolve_thread_count(opt.threads), 1024);
-    // Per thread and kind of contact: a count, and the smallest (a, b) pairs seen so far in a
-    // max-heap of at most max_examples, so memory does not grow with the number of pairs and
-    // the examples do not depend on how pairs were spread over the threads.
-    using Pair = std::uint64_t;  // a << 32 | b, a < b
-    struct alignas(64) PerThread {
-      std::uint64_t count[3] = {0, 0, 0};
-      std::vector<Pair> best[3];
-    };
-    std::vector<PerThread> found(threads);
-    const std::size_t keep = opt.max_examples;
-    bvh.for_each_overlapping_pair_parallel(threads, [&](std::uint32_t a, std::uint32_t b, int th) {
-      a = live[a], b = live[b];
-      const Triangle &ta = m.triangles[a], &tb = m.triangles[b];
-      const Vec3 p[3] = {m.vertices[ta[0]], m.vertices[ta[1]], m.vertices[ta[2]]};
-      const Vec3 q[3] = {m.vertices[tb[0]], m.vertices[tb[1]], m.vertices[tb[2]]};
-      const unsigned pi[3] = {ta[0], ta[1], ta[2]}, qi[3] = {tb[0], tb[1], tb[2]};
-      const Contact k = classify_triangle_pair(p, pi, q, qi);
-      if (k == Contact::None) return;
-      const int slot = k == Contact::Cross ? 0 : (k == Contact::Overlap ? 1 : 2);
-      PerThread& f = found[th];
-      ++f.count[slot];
-      if (keep == 0) return;
-      const Pair key = (Pair(std::min(a, b)) << 32) | std::max(a, b);
-      std::vector<Pair>& h = f.best[slot];
-      if (h.size() < keep) {
-        h.push_back(key);
-        std::push_heap(h.begin(), h.end());
-      } else if (key < h.front()) {
-        std::pop_heap(h.begin(), h.end());
-        h.back() = key;
-        std::push_heap(h.begin(), h.end());
-      }
-    });
-    const DefectKind kinds[3] = {DefectKind::SelfIntersections, DefectKind::Overlaps, DefectKind::TouchingPairs};
-    for (int slot = 0; slot < 3; ++slot) {
-      std::vector<Pair> all;
-      Defect& d = c.d(kinds[slot]);
-      for (PerThread& f : found) {
-        d.count += f.count[slot];
-        all.insert(all.end(), f.best[slot].begin(), f.best[slot].end());
-      }
-      std::sort(all.begin(), all.end());
-      for (std::size_t i = 0; i < all.size() && d.examples.size() < keep; ++i) {
-        DefectLocation l = c.at_triangle(std::uint32_t(all[i] >> 32));
-        l.other = std::uint32_t(all[i]);
-        d.examples.push_back(l);
-      }
-    }
-  }
-  // Several closed, consistently oriented shells that do not cross: just outside each shell's
-  // largest triangle (on its normal's side) the winding number of the whole mesh must be 0. It
-  // is -1 there for an inward shell that is not a cavity, and 2 - 1 = 1 for an outward shell
-  // nested in another outward one (or a cavity inside a cavity).
-  if (closed_manifold && c.d(DefectKind::InconsistentOrientation).count == 0 && shells.size() > 1 &&
-      c.d(DefectKind::SelfIntersections).count == 0 && c.d(DefectKind::Overlaps).count == 0) {
-    std::vector<std::pair<std::uint32_t, Vec3>> probes;  // (shell, point)
-    for (std::uint32_t i = 0; i < shells.size(); ++i) {
-      const Shell& s = shells[i];
-      if (s.largest == kNone || !s.spatial) continue;
-      const Vec3 a = m.corner(s.largest, 0), b = m.corner(s.largest, 1), cc = m.corner(s.largest, 2);
-      const Vec3 n = cross(b - a, cc - a), g = (a + b + cc) / 3.0;
-      // Offset from the centroid by a small fraction of the inradius (|n| / perimeter), doubled
-      // until the point is strictly on the normal's side by the exact predicate.
-      double delta = 1e-3 * length(n) / (length(b - a) + length(cc - b) + length(a - cc));
-      const Vec3 u = n / length(n);
-      for (int it = 0; it < 64; ++it, delta *= 2) {
-        const Vec3 p = g + u * delta;
-        if (exact::orient3d(a, b, cc, p) > 0) {
-          probes.push_back({i, p});
-          break;
-        }
-      }
-    }
-    // A closed shell's winding number is 0 outside its box, so only the shells whose boxes
-    // contain a probe count: found through a hierarchy over the shell boxes (each box as a
-    // "triangle" from its low to its high corner), then summed exactly over their triangles.
-    // Disjoint shells cost about one pass over the mesh; if nesting makes the exact sums too
-    // expensive, the whole mesh's hierarchical (far-field dipole) winding number is used.
-    std::vector<std::uint32_t> shell_start(shells.size() + 1, 0), shell_tris;
-    for (std::uint32_t t = 0; t < nt; ++t)
-      if (!flat[t]) ++shell_start[shell_of[t] + 1];
-    for (std::size_t i = 0; i < shells.size(); ++i) shell_start[i + 1] += shell_start[i];
-    shell_tris.resize(shell_start.back());
-    {
-      std::vector<std::uint32_t> fill(shell_start.begin(), shell_start.end() - 1);
-      for (std::uint32_t t = 0; t < nt; ++t)
-        if (!flat[t]) shell_tris[fill[shell_of[t]]++] = t;
-    }
-    TriMesh box_mesh;
-    for (std::uint32_t i = 0; i < shells.size(); ++i) {
-      box_mesh.vertices.push_back(shells[i].box.lo);
-      box_mesh.vertices.push_back(shells[i].box.hi);
-      box_mesh.triangles.push_back({2 * i, 2 * i + 1, 2 * i});
-    }
-    const TriangleBvh box_bvh(box_mesh);
-    auto inside = [](const Box3& b, const Vec3& p) {
-      return b.lo.x <= p.x && p.x <= b.hi.x && b.lo.y <= p.y && p.y <= b.hi.y && b.lo.z <= p.z && p.z <= b.hi.z;
-    };
-    std::vector<std::vector<std::uint32_t>> around(probes.size());  // shells whose box holds the probe
-    std::size_t work = 0;
-    {
-      const auto& nodes = box_bvh.nodes();
-      std::vector<std::uint32_t> stack;
-      for (std::size_t k = 0; k < probes.size(); ++k) {
-        const Vec3& p = probes[k].second;
-        stack.assign(1, 0);
-        while (!stack.empty()) {
-          const TriangleBvh::Node& n = nodes[stack.back()];
-          stack.pop_back();
-          if (!(n.lo[0] <= p.x && p.x <= n.hi[0] && n.lo[1] <= p.y && p.y <= n.hi[1] && n.lo[2] <= p.z &&
-                p.z <= n.hi[2]))
-            continue;
-          if (!n.leaf()) {
-            stack.push_back(n.index);
-            stack.push_back(n.index + 1);
-            continue;
-          }
-          for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
-            const std::uint32_t j = box_bvh.order()[i];
-            if (inside(shells[j].box, p)) around[k].push_back(j), work += shell_start[j + 1] - shell_start[j];
-          }
-        }
-      }
-    }
-    std::vector<double> wn(probes.size(), 0.0);
-    if (work <= (std::size_t(1) << 23)) {
-      for (std::size_t k = 0; k < probes.size(); ++k) {
-        double sum = 0;
-        for (std::uint32_t j : around[k])
-          for (std::uint32_t i = shell_start[j]; i < shell_start[j + 1]; ++i) {
-            const std::uint32_t t = shell_tris[i];
-            sum += solid_angle(probes[k].second, m.corner(t, 0), m.corner(t, 1), m.corner(t, 2));
-          }
-        wn[k] = sum / (4 * 3.14159265358979323846);
-      }
-    } else {
-      const MeshDistance md(m);
-      for (std::size_t k = 0; k < probes.size(); ++k) wn[k] = md.winding_number(probes[k].second);
-    }
-    for (std::size_t k = 0; k < probes.size(); ++k)
-      if (!(std::fabs(wn[k]) < 0.5)) c.add(DefectKind::ShellOrientation, c.at_triangle(shells[probes[k].first].largest));
-  }
-
-  r.area = std::ldexp(r.area, 2 * exponent);
-  r.volume = std::ldexp(volume, 3 * exponent);
-  return r;
+  Validation v(raw, opt);
+  v.check_vertices();
+  v.check_triangles();
+  v.check_duplicate_triangles();
+  v.check_edges();
+  v.check_vertex_fans();
+  v.check_shells();
+  v.check_self_intersections();
+  v.check_shell_nesting();
+  return v.finish();
 }
 
 bool ValidationReport::is_solid() const {

@@ -28,17 +28,17 @@ std::uint64_t mix(std::uint64_t h) {
   return h;
 }
 
-// Representative (lowest index among equal positions) for each used vertex: open addressing on
-// the exact bit pattern, linear in the vertex count.
-std::vector<std::uint32_t> exact_representatives(const TriMesh& m, const std::vector<char>& used) {
-  const std::size_t n = m.vertices.size();
+// Representative (lowest index among equal positions) for each used vertex (every vertex if
+// `used` is null): open addressing on the exact bit pattern, linear in the vertex count.
+std::vector<std::uint32_t> exact_representatives(const std::vector<Vec3>& vertices, const char* used) {
+  const std::size_t n = vertices.size();
   std::vector<std::uint32_t> rep(n, kNoVertex);
   std::size_t cap = 16;
   while (cap < 2 * n) cap <<= 1;
   std::vector<std::uint32_t> table(cap, kNoVertex);
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (!used[i]) continue;
-    const Vec3& p = m.vertices[i];
+    if (used && !used[i]) continue;
+    const Vec3& p = vertices[i];
     std::size_t h = mix(bits(p.x) * 0x9E3779B97F4A7C15ULL ^ mix(bits(p.y)) * 3 ^ mix(bits(p.z) + 0x1234567)) & (cap - 1);
     for (;;) {
       const std::uint32_t j = table[h];
@@ -47,7 +47,7 @@ std::vector<std::uint32_t> exact_representatives(const TriMesh& m, const std::ve
         rep[i] = i;
         break;
       }
-      if (m.vertices[j] == p) {
+      if (vertices[j] == p) {
         rep[i] = j;
         break;
       }
@@ -136,7 +136,7 @@ WeldResult weld(const TriMesh& mesh, const WeldOptions& options) {
   for (const Triangle& t : mesh.triangles)
     for (std::uint32_t v : t) used[v] = 1;
   const std::vector<std::uint32_t> rep = options.tolerance > 0 ? tolerance_representatives(mesh, used, options.tolerance)
-                                                                 : exact_representatives(mesh, used);
+                                                                 : exact_representatives(mesh.vertices, used.data());
   WeldResult r;
   r.welded_of_original.assign(n, kNoVertex);
   std::size_t used_count = 0;
@@ -159,6 +159,10 @@ WeldResult weld(const TriMesh& mesh, const WeldOptions& options) {
   r.mesh.indexed = mesh.indexed;
   r.mesh.name = mesh.name;
   return r;
+}
+
+std::vector<std::uint32_t> first_at_same_position(const std::vector<Vec3>& vertices) {
+  return exact_representatives(vertices, nullptr);
 }
 
 }  // namespace frep

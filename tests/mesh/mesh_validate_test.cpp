@@ -179,7 +179,68 @@ TEST(Validate, EachDefectIsFoundAndLocated) {
   for (int k = 0; k < kDefectKinds; ++k) EXPECT_NE(j.find(defect_key(DefectKind(k))), std::string::npos);
 }
 
-// Every shared mesh gets the verdict its MANIFEST notes imply.
+// frep's own counts on every shared mesh (docs/check.md defines each; where they differ from
+// the MANIFEST's notes it says why, or that the MANIFEST's tool counts differently).
+const std::map<std::string, std::string> kSharedCounts = {
+    {"cube_unit_bin.stl", "edges=18 components=1 genus=0"},
+    {"cube_quads.off", "edges=18 components=1 genus=0"},
+    {"tet_sliver.ply", "edges=6 components=1 genus=0 unused_vertices=5005 duplicate_vertices=26"},
+    {"sphere_icosa_1280.stl", "edges=1920 components=1 genus=0"},
+    {"spot.obj", "edges=8784 components=1 genus=0"},
+    {"bunny_closed_libigl.off", "edges=10449 components=1 genus=0"},
+    {"fandisk.obj", "edges=19419 components=1 genus=0"},
+    {"plate_holes.stl", "edges=1878 components=1 genus=5"},
+    {"tray_bottom_ascii.stl", "edges=6780 components=1 genus=23"},
+    {"menger_sponge_l3.obj", "edges=32397 components=1 genus=1409"},
+    {"armadillo_libigl.obj", "edges=129723 components=1 genus=0"},
+    {"scallop_manifold.obj", "edges=180000 components=1 genus=0"},
+    {"thingi10k_73416.stl", "edges=115260 components=1 genus=13 needle_triangles=134"},
+    {"cray_right_fltmax.obj", "edges=18 components=1 genus=0"},
+    {"benchy.stl",
+     "edges=337731 components=1 genus=5 self_intersections=247 overlaps=16 zero_area_triangles=11 needle_triangles=54 "
+     "touching_pairs=78"},
+    {"benchy_chimney_top.stl",
+     "edges=24054 components=5 genus=- non_manifold_vertices=12 self_intersections=29 overlaps=2 duplicate_triangles=3"},
+    {"teapot_newell.obj",
+     "edges=9560 components=4 genus=- open_edges=160 non_manifold_vertices=1 self_intersections=151 touching_pairs=10 "
+     "duplicate_vertices=403"},
+    {"suzanne.obj",
+     "edges=1472 components=3 genus=- open_edges=42 non_manifold_edges=1 non_manifold_vertices=4 self_intersections=90 "
+     "duplicate_triangles=1 duplicate_vertices=2"},
+    {"soup_random.stl", "edges=300 components=100 genus=- open_edges=300 self_intersections=1248"},
+    {"tetrahedra_joined.obj",
+     "edges=9 components=1 genus=- non_manifold_edges=3 non_manifold_vertices=3 duplicate_triangles=1"},
+    {"cubes_shared_edge.stl", "edges=35 components=1 genus=- non_manifold_edges=1 non_manifold_vertices=2"},
+    {"multibody_2solids.stl", "edges=48 components=2 genus=- inconsistent_orientation=12"},
+    {"self_intersect_A.obj", "edges=25740 components=1 genus=0 self_intersections=338"},
+    {"openscad_nonmanifold.obj",
+     "edges=2145 components=2 genus=- non_manifold_edges=18 non_manifold_vertices=53 self_intersections=1389 "
+     "overlaps=2800 duplicate_triangles=3 zero_area_triangles=1 needle_triangles=48 touching_pairs=2943 "
+     "duplicate_vertices=59"},
+    {"capsule_collapsed_poles.obj", "edges=15000 components=1 genus=0 collapsed_triangles=200 duplicate_vertices=250"},
+    {"wallhole.obj",
+     "edges=98 components=1 genus=- non_manifold_edges=1 non_manifold_vertices=2 overlaps=10 duplicate_triangles=1 "
+     "zero_area_triangles=11 touching_pairs=22 duplicate_vertices=57"},
+    {"cube_with_fold.ply", "edges=72 components=1 genus=0 overlaps=11"},
+    {"degenerated_doublesided.obj",
+     "edges=18 components=1 genus=- non_manifold_edges=6 non_manifold_vertices=7 duplicate_triangles=12"},
+    {"featuretype_tjunctions.stl", "edges=5502 components=1 genus=- open_edges=576 touching_pairs=1216"},
+    {"box_overlapping_shells.stl",
+     "edges=13431 components=10 genus=21 self_intersections=666 overlaps=1730 touching_pairs=2269"},
+    {"ogre.obj",
+     "edges=186112 components=44 genus=- open_edges=200 self_intersections=8727 overlaps=27 zero_area_triangles=4 "
+     "touching_pairs=372 duplicate_vertices=9"},
+};
+
+std::string counts(const ValidationReport& r) {
+  std::string s = "edges=" + std::to_string(r.edges) + " components=" + std::to_string(r.components) +
+                  " genus=" + (r.genus ? std::to_string(*r.genus) : std::string("-"));
+  for (const Defect& d : r.defects)
+    if (d.count) s += " " + std::string(defect_key(d.kind)) + "=" + std::to_string(d.count);
+  return s;
+}
+
+// Every shared mesh gets the verdict its MANIFEST notes imply, and frep's own counts.
 TEST(Validate, VerdictsMatchSharedManifest) {
   FREP_REQUIRE_SHARED_MESHES();
   std::ifstream in(test::shared_mesh_dir() + "/MANIFEST.tsv");
@@ -208,6 +269,9 @@ TEST(Validate, VerdictsMatchSharedManifest) {
     }
     const ValidationReport r = validate_mesh(read_mesh(test::shared_mesh_dir() + "/" + col[0]));
     EXPECT_EQ(r.is_solid(), !broken) << col[0] << ": " << notes << "\n" << r.to_text();
+    const auto expected = kSharedCounts.find(col[0]);
+    if (expected == kSharedCounts.end()) ADD_FAILURE() << col[0] << " has no expected counts: " << counts(r);
+    else EXPECT_EQ(counts(r), expected->second) << col[0];
     // Genus where the manifest states it and the mesh is closed and manifold.
     if (auto p = notes.find("genus "); p != std::string::npos && r.genus) {
       EXPECT_EQ(*r.genus, std::atoi(notes.c_str() + p + 6)) << col[0];
@@ -218,6 +282,40 @@ TEST(Validate, VerdictsMatchSharedManifest) {
     ++checked;
   }
   EXPECT_GE(checked, 30);
+}
+
+// Duplicate vertices (indexed formats): every vertex with a lower-numbered vertex at the same
+// position, used or not; with a weld tolerance, used vertices merged by the weld as well.
+TEST(Validate, DuplicateVerticesCountUnusedOnes) {
+  TriMesh m = test::make_box();  // vertices 0..7, all used
+  m.vertices.insert(m.vertices.begin(), m.vertices[5]);  // unused vertex 0 at vertex 6's position
+  for (Triangle& t : m.triangles)
+    for (std::uint32_t& v : t) ++v;
+  m.vertices.push_back({5, 5, 5});              // 9: unused
+  m.vertices.push_back({5, 5, 5});              // 10: unused, duplicate of 9
+  m.vertices.push_back(m.vertices[3]);          // 11: unused, duplicate of 3
+  m.vertices.push_back({5, 5, 5 + 1e-9});       // 12: unused, near 9 but not at it
+  ValidationReport r = validate_mesh(m);
+  EXPECT_EQ(count(r, DefectKind::UnusedVertices), 5u);
+  EXPECT_EQ(count(r, DefectKind::DuplicateVertices), 3u);
+  std::vector<std::uint32_t> dup;
+  for (const DefectLocation& l : r.defect(DefectKind::DuplicateVertices).examples) dup.push_back(l.vertex);
+  EXPECT_EQ(dup, (std::vector<std::uint32_t>{6, 10, 11}));  // 6 is used, but unused 0 comes first
+  EXPECT_TRUE(r.is_solid());
+  // Welding within a tolerance merges used vertices; unused ones still count only where exact.
+  TriMesh near = test::make_box();
+  near.vertices.push_back(near.vertices[0] + Vec3{1e-9, 0, 0});  // 8: used below, merged into 0
+  near.triangles[0][0] = 8;
+  near.vertices.push_back(near.vertices[1] + Vec3{1e-9, 0, 0});  // 9: unused, near 1: not a duplicate
+  near.vertices.push_back(near.vertices[8]);                     // 10: unused, at 8
+  ValidationOptions tol;
+  tol.weld_tolerance = 1e-6;
+  r = validate_mesh(near, tol);
+  EXPECT_EQ(count(r, DefectKind::DuplicateVertices), 2u);  // 8 (merged into 0) and 10 (at 8)
+  EXPECT_TRUE(r.is_solid());
+  // STL repeats every corner by design: no duplicate vertices at all.
+  m.indexed = false;
+  EXPECT_EQ(count(validate_mesh(m), DefectKind::DuplicateVertices), 0u);
 }
 
 // An exception thrown in a worker (bad_alloc while recording pairs) reaches the caller after
@@ -407,6 +505,10 @@ TEST(Validate, ShellOrientationAndNesting) {
   EXPECT_EQ(count(r, DefectKind::ShellOrientation), 1u) << r.summary();
   const Vec3 where = r.defect(DefectKind::ShellOrientation).examples.at(0).point;
   EXPECT_TRUE(where.z >= 5 && where.z <= 6 && where.x >= 5.2 && where.x <= 5.8) << where.x << " " << where.z;
+  // The same without the intersection test, whose hierarchy the winding number otherwise reuses.
+  ValidationOptions fast;
+  fast.self_intersections = false;
+  EXPECT_EQ(count(validate_mesh(combined(parts), fast), DefectKind::ShellOrientation), 1u);
 }
 
 // Meshes without volume are not solids: only collapsed triangles (also after a large weld

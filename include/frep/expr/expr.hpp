@@ -80,9 +80,10 @@ FREP_UNARY_FUNCTION(ln, Ln)
 FREP_UNARY_FUNCTION(logical_not, Not)
 #undef FREP_UNARY_FUNCTION
 
-// if_nonzero_else(c, a, b) = c != 0 ? a : b (NaN counts as non-zero), built from and/or/not.
-inline Expr if_nonzero_else(Expr c, Expr a, Expr b) {
-  return logical_or(logical_and(c, a), logical_and(logical_not(c), b));
-}
+// if_nonzero_else(c, a, b) = c != 0 ? a : b (NaN counts as non-zero), from and/not and an add:
+// exactly one side is non-zero-able, so the sum is the chosen side (a -0 side becomes +0), and the
+// gradient is the chosen side's even where that side is exactly 0 (an or-based select would fall
+// through to the other side's constant 0 there, with a zero gradient on the surface).
+inline Expr if_nonzero_else(Expr c, Expr a, Expr b) { return logical_and(c, a) + logical_and(logical_not(c), b); }
 
 }  // namespace frep

@@ -5,38 +5,12 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
-#include "frep/mesh/bvh.hpp"
 #include "frep/mesh/mesh.hpp"
 
 namespace frep {
-
-namespace mesh_detail {
-// The query structure, 4-wide so one SIMD register of doubles (AVX2; two on SSE4) tests four
-// boxes or four triangles at once. Built from the binary BVH by pulling grandchildren up.
-constexpr int kWidth = 4;
-struct alignas(32) WideNode {
-  double lo[3][kWidth], hi[3][kWidth];  // child boxes; an empty slot has lo = +inf, hi = -inf
-  std::int32_t child[kWidth];           // >= 0: inner node; < 0: leaf, packets ~child, ~child + 1, ...
-  std::uint32_t packets[kWidth];        // number of packets of a leaf child
-};
-// Four triangles, structure of arrays. Padding lanes repeat the packet's last triangle.
-struct alignas(32) TriPacket {
-  double a[3][kWidth], b[3][kWidth], c[3][kWidth];  // corners
-  double n[3][kWidth];                              // cross(b - a, c - a); zero if degenerate
-  double inv_n2[kWidth];                            // 1 / |n|^2, zero if degenerate
-  double inv_e2[3][kWidth];  // 1 / |edge k|^2 (edge k joins corners k and k+1), zero if a point
-  std::uint32_t tri[kWidth];  // leaf-order triangle index
-  double real[kWidth];        // 1 for a triangle, 0 for padding (sums must not count it twice)
-};
-// Winding-number data of a wide node's children: far from a child, its triangles act as one
-// dipole (the area-weighted sum of their normals at their area-weighted centroid).
-struct alignas(32) WideDipoles {
-  double center[3][kWidth], area_normal[3][kWidth];
-  double far2[kWidth];  // (beta * radius)^2: the dipole is used beyond this squared distance
-};
-}  // namespace mesh_detail
 
 enum class SignMethod {
   WindingNumber,  // inside where the generalized winding number exceeds 1/2
@@ -59,10 +33,23 @@ struct ClosestPoint {
   Feature feature = Feature::Face;  // edge k joins corners k and k+1
 };
 
+class MeshTopology;
+class TriangleBvh;
+
 class MeshDistance {
  public:
-  // Builds the hierarchy and the normals. Throws InputError for a mesh without triangles.
+  // Welds the mesh (options.weld_tolerance), then builds as below. Throws InputError for a mesh
+  // without triangles or with coordinates beyond the range handled exactly (|x| > 1e100, or a
+  // size below 1e-90).
   explicit MeshDistance(const TriMesh& mesh, const MeshDistanceOptions& options = {});
+  // From a mesh that is already welded (weld.hpp) and its topology, without welding again
+  // (options.weld_tolerance is not used). `bvh`, if given, must have been built over `welded`
+  // (with any options) and is used instead of building one. Nothing passed is referenced later.
+  MeshDistance(const TriMesh& welded, const MeshTopology& topology, const MeshDistanceOptions& options = {},
+               const TriangleBvh* bvh = nullptr);
+  MeshDistance(MeshDistance&&) noexcept;
+  MeshDistance& operator=(MeshDistance&&) noexcept;
+  ~MeshDistance();
 
   ClosestPoint closest_point(const Vec3& p) const;
   double unsigned_distance(const Vec3& p) const { return closest_point(p).distance; }
@@ -80,22 +67,11 @@ class MeshDistance {
   void unsigned_distance(const double* x, const double* y, const double* z, double* out, std::size_t n,
                          int threads = 0) const;
 
-  std::size_t num_triangles() const { return tri_.size(); }
+  std::size_t num_triangles() const;
 
  private:
-  struct Tri {
-    Vec3 a, b, c;
-  };
-  std::vector<mesh_detail::WideNode> wide_;        // the query hierarchy
-  std::vector<mesh_detail::WideDipoles> dipoles_;  // per wide node
-  std::vector<mesh_detail::TriPacket> packets_;
-  std::vector<Tri> tri_;                     // in BVH leaf order
-  std::vector<std::uint32_t> tri_id_;        // leaf order -> mesh triangle index
-  std::vector<Vec3> face_normal_;            // per mesh triangle, unit (zero if degenerate)
-  std::vector<Vec3> edge_normal_;            // per mesh triangle and edge (3 per triangle)
-  std::vector<Vec3> vertex_normal_;          // per welded vertex
-  std::vector<Triangle> welded_;             // per mesh triangle, welded vertex indices
-  MeshDistanceOptions options_;
+  struct Data;  // the SIMD query layouts and the normals (mesh_distance.cpp)
+  std::unique_ptr<Data> d_;
 };
 
 // One-shot: signed distances at points (x, y, z columns), by the winding number or pseudonormals.

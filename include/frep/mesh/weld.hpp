@@ -27,4 +27,8 @@ struct WeldResult {
 // triangle t of the input). Throws InputError if the tolerance is negative or not finite.
 WeldResult weld(const TriMesh& mesh, const WeldOptions& options = {});
 
+// Per vertex, used by a triangle or not: the lowest index of a vertex at exactly the same
+// position (-0 and +0 are the same), itself if there is none. Linear time.
+std::vector<std::uint32_t> first_at_same_position(const std::vector<Vec3>& vertices);
+
 }  // namespace frep

@@ -1,0 +1,58 @@
+// Private helpers shared by the exporters: shortest round-trip float text, per-node use counts
+// and identifier checks.
+#pragma once
+
+#include <charconv>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "frep/expr/graph.hpp"
+
+namespace frep::export_detail {
+
+// The shortest decimal text that reads back as exactly `v` (std::to_chars), e.g. "0.1", "1e-05",
+// "-3", "inf", "-nan". Callers turn it into their language's literal.
+inline std::string shortest_float(float v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+// How often each node is an argument of a node reachable from `root` (the root counts once).
+// Indexed by node id, size root + 1. `order` is reachable_nodes(g, root).
+inline std::vector<std::uint32_t> use_counts(const Graph& g, const std::vector<NodeId>& order, NodeId root) {
+  std::vector<std::uint32_t> uses(root + 1, 0);
+  for (NodeId id : order) {
+    const Node& n = g.node(id);
+    if (n.a != kNoNode) ++uses[n.a];
+    if (n.b != kNoNode) ++uses[n.b];
+  }
+  ++uses[root];
+  return uses;
+}
+
+// Text for a one-line comment in any of the output languages: control characters (a newline
+// would end a // or % comment) become spaces, and "*/" (which would end a C comment) "* /".
+inline std::string comment_text(std::string_view s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '/' && !out.empty() && out.back() == '*') out += ' ';
+    out += static_cast<unsigned char>(c) < 0x20 ? ' ' : c;
+  }
+  return out;
+}
+
+// [A-Za-z_][A-Za-z0-9_]*: a valid name in C and GLSL (keywords are the caller's problem).
+inline bool is_identifier(std::string_view s) {
+  if (s.empty()) return false;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const char c = s[i];
+    const bool alpha = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
+    if (!alpha && !(i > 0 && c >= '0' && c <= '9')) return false;
+  }
+  return true;
+}
+
+}  // namespace frep::export_detail

@@ -1,0 +1,103 @@
+// Clearance measurement (clearance.hpp): best-first interval branch and bound on S = A + B, then
+// a gradient-descent polish of the best point found.
+#include "frep/ugf/clearance.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <vector>
+
+#include "frep/error.hpp"
+#include "frep/eval/evaluators.hpp"
+#include "frep/eval/tape.hpp"
+#include "frep/ugf/two_body.hpp"
+
+namespace frep::ugf {
+namespace {
+
+struct Cell {
+  Interval x, y, z;
+  float lo;  // proven lower bound of S over the cell
+  bool operator>(const Cell& o) const { return lo > o.lo; }
+};
+
+float mid(Interval i) { return i.lo + 0.5f * (i.hi - i.lo); }
+
+}  // namespace
+
+ClearanceResult find_clearance(Expr A, Expr B, Interval x, Interval y, Interval z, const ClearanceOptions& opt) {
+  FREP_ASSERT(x.lo <= x.hi && y.lo <= y.hi && z.lo <= z.hi, "empty region");
+  Graph& g = A.graph();
+  const Tape tape = Tape::compile(g, clearance_field(A, B).id());
+  IntervalEvaluator iv;
+  PointEvaluator pe;
+  ClearanceResult res;
+  res.value = std::numeric_limits<float>::infinity();
+
+  auto sample = [&](float px, float py, float pz) {
+    const float v = pe.eval(tape, px, py, pz);
+    if (v < res.value) res.value = v, res.x = px, res.y = py, res.z = pz;
+  };
+  auto lower = [&](Interval cx, Interval cy, Interval cz) {
+    const Interval r = iv.eval(tape, cx, cy, cz);
+    ++res.boxes;
+    return r.is_unknown() ? -std::numeric_limits<float>::infinity() : r.lo;
+  };
+
+  // A coarse grid first, so that pruning starts with a good upper bound.
+  constexpr int kGrid = 8;
+  for (int i = 0; i < kGrid; ++i)
+    for (int j = 0; j < kGrid; ++j)
+      for (int k = 0; k < kGrid; ++k)
+        sample(x.lo + (x.hi - x.lo) * (i + 0.5f) / kGrid, y.lo + (y.hi - y.lo) * (j + 0.5f) / kGrid,
+               z.lo + (z.hi - z.lo) * (k + 0.5f) / kGrid);
+
+  std::priority_queue<Cell, std::vector<Cell>, std::greater<>> open;
+  float pruned_lo = std::numeric_limits<float>::infinity();  // smallest bound of discarded cells
+  open.push({x, y, z, lower(x, y, z)});
+  while (!open.empty() && res.boxes < opt.max_boxes) {
+    const Cell c = open.top();
+    if (c.lo >= res.value - opt.tolerance) break;  // every remaining cell is at least this
+    open.pop();
+    // Halve the longest side.
+    const float wx = c.x.hi - c.x.lo, wy = c.y.hi - c.y.lo, wz = c.z.hi - c.z.lo;
+    const int axis = (wx >= wy && wx >= wz) ? 0 : (wy >= wz ? 1 : 2);
+    for (int half = 0; half < 2; ++half) {
+      Cell d = c;
+      Interval& side = axis == 0 ? d.x : axis == 1 ? d.y : d.z;
+      const float m = mid(side);
+      if (m <= side.lo || m >= side.hi) {  // cannot split further in f32
+        pruned_lo = std::min(pruned_lo, c.lo);
+        break;
+      }
+      (half == 0 ? side.hi : side.lo) = m;
+      d.lo = lower(d.x, d.y, d.z);
+      sample(mid(d.x), mid(d.y), mid(d.z));
+      if (d.lo < res.value - opt.tolerance) open.push(d);
+      else pruned_lo = std::min(pruned_lo, d.lo);
+    }
+  }
+
+  // Polish: descend along -grad S from the best point, staying in the region.
+  GradEvaluator ge;
+  float step = 0.01f * std::max({x.hi - x.lo, y.hi - y.lo, z.hi - z.lo});
+  for (int it = 0; it < 200 && step > 1e-9f; ++it) {
+    const Grad gr = ge.eval(tape, res.x, res.y, res.z);
+    const float n = std::sqrt(gr.dx * gr.dx + gr.dy * gr.dy + gr.dz * gr.dz);
+    if (!(n > 0) || !std::isfinite(n)) break;
+    const float px = std::clamp(res.x - step * gr.dx / n, x.lo, x.hi);
+    const float py = std::clamp(res.y - step * gr.dy / n, y.lo, y.hi);
+    const float pz = std::clamp(res.z - step * gr.dz / n, z.lo, z.hi);
+    const float before = res.value;
+    sample(px, py, pz);
+    step *= res.value < before ? 1.5f : 0.5f;
+  }
+
+  float lo = pruned_lo;
+  if (!open.empty()) lo = std::min(lo, open.top().lo);
+  res.lower_bound = std::min(lo, res.value);
+  return res;
+}
+
+}  // namespace frep::ugf
