@@ -8,10 +8,12 @@
 #include <atomic>
 #include <tuple>
 #include <cmath>
+#include <filesystem>
 
 #include "contour_test_util.hpp"
 #include "frep/error.hpp"
 #include "frep/expr/expr.hpp"
+#include "frep/io/load.hpp"
 #include "frep/io/vm.hpp"
 #include "frep/mesh/mesh_io.hpp"
 #include "test_util.hpp"
@@ -71,6 +73,28 @@ TEST(Mesher, SharedModelsAreSolids) {
       EXPECT_GT(m.triangles.size(), 1000u);
     }
   }
+}
+
+// The shared Rhai models (loaded by file type), both methods, at a coarse resolution: the
+// gyroid sphere and the sponge are full of thin walls and tiny pieces there.
+TEST(Mesher, SharedRhaiModelsAreSolids) {
+  const std::string dir = FREP_SOURCE_DIR "/../shared/data/rhai";
+  if (!std::filesystem::exists(dir)) GTEST_SKIP() << "shared test data not found: " << dir;
+  int models = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".rhai") continue;
+    const Model model = load_expression(entry.path().string());
+    const Tape t = Tape::compile(*model.graph, model.root);
+    for (auto method : {MeshMethod::DualContouring, MeshMethod::Snap}) {
+      MeshOptions o;
+      o.resolution = 32;
+      o.method = method;
+      const TriMesh m = mesh_solid(t, o, entry.path().filename().string());
+      EXPECT_GT(m.triangles.size(), 100u);
+    }
+    ++models;
+  }
+  EXPECT_GT(models, 0);
 }
 
 // The bear at 128 over [-1,1]^3 (where its fine details are), dual contouring.
