@@ -57,7 +57,7 @@ void register_mesh(CLI::App& app) {
     bool quiet = false;
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("INPUT", a->input, "Expression file (.vm); meshes need frep convert first")->required();
+  cmd->add_option("INPUT", a->input, "Expression file (.vm or .rhai); meshes need frep convert first")->required();
   cmd->add_option("-o,--output", a->output, "Output mesh (.stl binary, .obj or .ply binary), written atomically")
       ->required();
   auto* res = cmd->add_option("--resolution,-r", a->resolution, "Cells across the longest side of the bounds")
