@@ -145,7 +145,9 @@ void register_mesh(CLI::App& app) {
     if (shown) std::fprintf(stderr, "\r%40s\r", "");
     const MeshStats& st = mesher.stats();
     if (!a->quiet) {
-      if (st.bounds_found)
+      if (st.bounds_known)
+        fmt::print("bounds: {} .. {} (the mesh's bounding box)\n", fmt_point(st.found.lo), fmt_point(st.found.hi));
+      else if (st.bounds_found)
         fmt::print("bounds: {} .. {} (found by interval search of the expression in {} rounds)\n", fmt_point(st.found.lo),
                    fmt_point(st.found.hi), st.search_rounds);
       else

@@ -36,6 +36,10 @@ void check_options(const MeshOptions& o) {
         bad_option(std::string("the bounds are empty along ") + "xyz"[a] + " (need x0 < x1, y0 < y1, z0 < z1)");
     }
   }
+  if (!o.known_bounds.empty())
+    for (int a = 0; a < 3; ++a)
+      if (!std::isfinite(o.known_bounds.lo[a]) || !std::isfinite(o.known_bounds.hi[a]))
+        bad_option("the known bounds must be finite");
   if (!(o.edge_tolerance > 0) || !(o.edge_tolerance < 1)) bad_option("the edge tolerance must be in (0, 1)");
   if (o.edge_iterations < 1 || o.edge_iterations > 64) bad_option("edge iterations must be between 1 and 64");
   if (!(o.qef_threshold >= 0) || !(o.qef_threshold <= 1)) bad_option("the QEF threshold must be in [0, 1]");
@@ -92,7 +96,11 @@ TriMesh Mesher::mesh(const Tape& tape) {
   auto t0 = Clock::now();
   Box3 region = o.bounds;
   int margin = 0;
-  if (region.empty()) {
+  if (region.empty() && !o.known_bounds.empty()) {
+    st.bounds_known = true;
+    st.found = region = o.known_bounds;
+    margin = 1;
+  } else if (region.empty()) {
     report("bounds", 0);
     BoundsSearchOptions bo = o.bounds_search;
     bo.threads = o.threads;

@@ -185,6 +185,30 @@ TEST(Mesher, BoundsSearch) {
   }
 }
 
+// Known bounds replace the search (for fields taking their value from the nearest feature, like
+// converted meshes, intervals cannot bound the inside far away), with a margin cell.
+TEST(Mesher, KnownBounds) {
+  Graph g;
+  auto x = g.x(), y = g.y(), z = g.z();
+  const Expr a = sqrt(square(x - 0.3f) + square(y) + square(z)) - 0.25f;
+  const Expr b = sqrt(square(x + 0.3f) + square(y) + square(z)) - 0.25f;
+  // The value of the nearer ball (by absolute value): a union of the two, for intervals a puzzle.
+  const Expr nearer = if_nonzero_else(compare(abs(a), abs(b)) + 1, b, a);
+  MeshOptions o = options(24, Box3{});
+  o.known_bounds = Box3{{-0.55, -0.25, -0.25}, {0.55, 0.25, 0.25}};
+  MeshStats st;
+  const TriMesh m = mesh_solid(nearer, o, "two balls, known bounds", &st);
+  EXPECT_TRUE(st.bounds_known);
+  EXPECT_FALSE(st.bounds_found);
+  EXPECT_EQ(validate_mesh(m).components, 2u);
+  for (int axis = 0; axis < 3; ++axis) {
+    EXPECT_LT(st.bounds.lo[axis], o.known_bounds.lo[axis]);  // a margin cell beyond the box
+    EXPECT_GT(st.bounds.hi[axis], o.known_bounds.hi[axis]);
+  }
+  o.known_bounds = Box3{{0, 0, 0}, {1, NAN, 1}};
+  EXPECT_THROW(Mesher bad(o), InputError);
+}
+
 TEST(Mesher, OptionsAreChecked) {
   auto bad = [](auto change) {
     MeshOptions o;

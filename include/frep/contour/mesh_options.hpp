@@ -40,6 +40,11 @@ struct MeshOptions {
   // exactly this box (grown to whole cells about its center); where the shape reaches the box
   // it is cut and closed with flat caps on the box.
   Box3 bounds;
+  // A box known to contain every point where the expression is negative (for example the
+  // bounding box of the mesh it was converted from: expressions that take their sign from the
+  // nearest feature cannot be bounded by intervals far away). Used instead of the search when
+  // `bounds` is empty, with the same extra cell on every side.
+  Box3 known_bounds;
   BoundsSearchOptions bounds_search;  // for the search (its thread count is `threads`)
 
   int threads = 0;  // worker threads; 0 = all cores. The mesh is the same for any count.
@@ -68,8 +73,9 @@ struct MeshOptions {
 
 struct MeshStats {
   Box3 bounds;                      // the region meshed: the grid's box
-  bool bounds_found = false;        // found by the interval search (else given)
-  Box3 found;                       // the search's box, before the margin cell
+  bool bounds_found = false;        // found by the interval search
+  bool bounds_known = false;        // from MeshOptions::known_bounds
+  Box3 found;                       // the search's (or the known) box, before the margin cell
   int search_rounds = 0;
   std::array<int, 3> cells{0, 0, 0};  // grid cells per axis
   double cell_size = 0;
