@@ -80,7 +80,7 @@ void register_render(CLI::App& app) {
       ->check(CLI::Range(0, 1024));
   auto* z = cmd->add_option("--z", a->opt.z, "Slice height for 3D expressions (the default 2D picture)")->capture_default_str();
   cmd->add_option("--tiles", a->tiles,
-                  "Tile edge per subdivision level, largest first (advanced; default 256,64,16, with --3d 64,16,4)")
+                  "Tile edge per subdivision level, largest first (advanced; default 256,64,16; with --3d halving from the image size down to 4)")
       ->delimiter(',');
   cmd->add_flag("--quiet,-q", a->quiet, "Do not print where the image went");
 

@@ -29,12 +29,23 @@
 namespace frep {
 namespace {
 
+// Halving from the largest power of two below the volume's longest side (in voxels) down to 4:
+// 8 children per split, so that large boxes (which prune little, and in rotated views least)
+// are evaluated as few at a time as possible on the big tapes.
+std::vector<int> automatic_tiles(const Camera& cam) {
+  const int longest = std::max({cam.width, cam.height, cam.depth});
+  int top = 4;
+  while (top * 2 < longest) top *= 2;
+  std::vector<int> tiles;
+  for (int t = top; t >= 4; t /= 2) tiles.push_back(t);
+  return tiles;
+}
+
 void check_options(const Render3DOptions& o) {
   if (o.size < 1 || o.size > 16384)
     throw InputError("", 0, "image size must be between 1 and 16384, got " + std::to_string(o.size));
   if (o.refine_steps < 0 || o.refine_steps > 64)
     throw InputError("", 0, "refine steps must be between 0 and 64, got " + std::to_string(o.refine_steps));
-  if (o.tiles.empty()) throw InputError("", 0, "at least one tile level is needed");
   for (std::size_t i = 0; i < o.tiles.size(); ++i) {
     if (o.tiles[i] < 1) throw InputError("", 0, "tile sizes must be positive");
     if (i > 0 && o.tiles[i] > o.tiles[i - 1]) throw InputError("", 0, "tile sizes must decrease");
@@ -149,8 +160,11 @@ Renderer3D::Renderer3D(Render3DOptions options) : options_(std::move(options)) {
   check_options(options_);
   camera_ = camera_for(options_);
   SubdivisionOptions so;
-  so.tiles = options_.tiles;
+  so.tiles = options_.tiles.empty() ? automatic_tiles(camera_) : options_.tiles;
   so.threads = options_.threads;
+  // One level breadth first: the driver keeps every frontier box's simplified tape, and in 3D
+  // two levels make thousands of them (gigabytes for a million-node expression).
+  so.breadth_first_levels = 1;
   subdivider_ = std::make_unique<Subdivider>(so);
   for (int i = 0; i < subdivider_->workers(); ++i) workers_.push_back(std::make_unique<Worker>());
 }

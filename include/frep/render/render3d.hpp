@@ -31,7 +31,8 @@ struct Render3DOptions {
   int depth_steps = 0;                           // depth cells per column; 0 = cubic voxels (the image's pixel size)
   int refine_steps = 5;                          // bisection steps per hit: depth error <= step / 2^(refine_steps + 1)
   int threads = 0;                               // worker threads; 0 = all hardware threads
-  std::vector<int> tiles = {64, 16, 4};          // box edge per subdivision level in voxels, largest first
+  std::vector<int> tiles = {};                   // box edge per subdivision level in voxels, largest first;
+                                                 // empty = halving from the volume's size down to 4
 };
 
 // What a 3D render finds: per pixel (row-major, top row first) the depth and normal of the
