@@ -153,37 +153,62 @@ Image colour_slice(const SliceField& f, double contour) {
   img.channels = 3;
   img.pixels.assign(static_cast<std::size_t>(f.width) * f.height * 3, 0);
   const double extent = std::max(f.width, f.height) * f.pixel;
-  for (std::size_t p = 0; p < f.value.size(); ++p) {
-    std::uint8_t* px = &img.pixels[p * 3];
-    const double v = f.value[p];
-    if (v != v) {
-      std::copy(C::nan, C::nan + 3, px);
-      continue;
-    }
-    // Pixels per unit of f: the gradient turns value differences into distances. Without a
-    // usable gradient, read f as a distance.
-    double slope = f.slope[p];
-    if (!(slope > 0) || !std::isfinite(slope)) slope = 1;
-    const double per_unit = 1 / (slope * f.pixel);
-    const std::uint8_t* base = v < 0 ? C::inside : C::outside;
-    // Darker away from the surface: brightness 1 at f = 0 down to 0.5 far away.
-    const double shade = std::isfinite(v) ? 0.5 + 0.5 * std::exp(-3 * std::fabs(v) / extent) : 0.5;
-    double rgb[3];
-    for (int c = 0; c < 3; ++c) rgb[c] = base[c] * shade;
-    // Contours every `contour`: a thin line, faded out where lines would be closer than 5 pixels.
-    if (std::isfinite(v)) {
-      const double k = v / contour;
-      const double off = std::fabs(k - std::round(k)) * contour * per_unit;  // pixels to the nearest contour
+  const int W = f.width, H = f.height;
+  auto value = [&](int x, int y) { return static_cast<double>(f.value[static_cast<std::size_t>(y) * W + x]); };
+  // Lines are drawn only where the field really crosses them within reach (a neighbour on the
+  // other side), so that spikes of |grad f| do not draw lines from the distance estimate alone.
+  auto crosses = [&](int x, int y, int reach, auto&& side) {
+    const double v = value(x, y);
+    for (int dy = -reach; dy <= reach; ++dy)
+      for (int dx = -reach; dx <= reach; ++dx) {
+        const int qx = x + dx, qy = y + dy;
+        if (qx < 0 || qy < 0 || qx >= W || qy >= H) continue;
+        const double q = value(qx, qy);
+        if (q == q && side(q) != side(v)) return true;
+      }
+    return false;
+  };
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const std::size_t p = static_cast<std::size_t>(y) * W + x;
+      std::uint8_t* px = &img.pixels[p * 3];
+      const double v = f.value[p];
+      if (v != v) {
+        std::copy(C::nan, C::nan + 3, px);
+        continue;
+      }
+      // Pixels per unit of f: the gradient turns value differences into distances. Without a
+      // usable gradient, read f as a distance.
+      double slope = f.slope[p];
+      if (!(slope > 0) || !std::isfinite(slope)) slope = 1;
+      const double per_unit = 1 / (slope * f.pixel);
+      const std::uint8_t* base = v < 0 ? C::inside : C::outside;
+      // Lines closer than 5 pixels fade out, and with them the banding.
       const double spacing = contour * per_unit;
-      const double cover = std::clamp(C::line_half_width + 0.5 - off, 0.0, 1.0) * std::clamp((spacing - 2) / 3, 0.0, 1.0);
-      for (double& c : rgb) c *= 1 - cover * (1 - C::line_darkening);
-      // The zero contour, bold, over everything.
-      const double zoff = std::fabs(v) * per_unit;
-      const double zcover = std::clamp(C::zero_half_width + 0.5 - zoff, 0.0, 1.0);
-      for (int c = 0; c < 3; ++c) rgb[c] = rgb[c] * (1 - zcover) + C::zero[c] * zcover;
+      const double fade = std::clamp((spacing - 2) / 3, 0.0, 1.0);
+      // Darker away from the surface, from 1 at f = 0 down to 0.5: flat between contour lines
+      // (a contour map), smooth where the lines fade.
+      const double a = std::fabs(v);
+      const double banded = std::floor(a / contour) * contour;
+      const double level = std::isfinite(a) ? fade * banded + (1 - fade) * a : a;
+      const double shade = std::isfinite(level) ? 0.5 + 0.5 * std::exp(-3 * level / extent) : 0.5;
+      double rgb[3];
+      for (int c = 0; c < 3; ++c) rgb[c] = base[c] * shade;
+      if (std::isfinite(v)) {
+        // Contours every `contour`: thin lines.
+        const double k = v / contour;
+        const double off = std::fabs(k - std::round(k)) * contour * per_unit;  // pixels to the nearest contour
+        const double cover = std::clamp(C::line_half_width + 0.5 - off, 0.0, 1.0) * fade;
+        if (cover > 0 && crosses(x, y, 1, [&](double q) { return std::floor(q / contour); }))
+          for (double& c : rgb) c *= 1 - cover * (1 - C::line_darkening);
+        // The zero contour, bold, over everything.
+        const double zoff = a * per_unit;
+        const double zcover = std::clamp(C::zero_half_width + 0.5 - zoff, 0.0, 1.0);
+        if (zcover > 0 && crosses(x, y, 2, [](double q) { return q < 0; }))
+          for (int c = 0; c < 3; ++c) rgb[c] = rgb[c] * (1 - zcover) + C::zero[c] * zcover;
+      }
+      for (int c = 0; c < 3; ++c) px[c] = static_cast<std::uint8_t>(std::lround(std::clamp(rgb[c], 0.0, 255.0)));
     }
-    for (int c = 0; c < 3; ++c) px[c] = static_cast<std::uint8_t>(std::lround(std::clamp(rgb[c], 0.0, 255.0)));
-  }
   return img;
 }
 

@@ -1,8 +1,10 @@
 // 2D slices of an expression on an axis plane, coloured so that one sees whether the field is a
-// distance: inside (f < 0) and outside in two colours that darken with |f|, thin contour lines
-// every `contour` units of f and a bold line on f = 0. Lines are drawn at a constant width in
-// pixels (the distance to a contour is estimated as |f - k n| / |in-plane gradient|), so for a
-// signed distance they are evenly spaced, and where they crowd or spread the field is not one.
+// distance: inside (f < 0) and outside in two colours that darken with |f| (flat between contour
+// lines), thin contour lines every `contour` units of f and a bold line on f = 0. Lines are drawn
+// at a constant width in pixels (the distance to a contour is estimated as |f - k n| / |in-plane
+// gradient|, where a neighbouring pixel lies across it), so for a signed distance they are
+// evenly spaced, and where they crowd or spread the field is not one; where they would be closer
+// than 5 pixels they fade out.
 #pragma once
 
 #include <memory>
