@@ -61,7 +61,7 @@ void register_render(CLI::App& app) {
       "Render an expression: by default its sign on z = const over [-1,1]^2 (white where negative); "
       "--3d for a shaded view, --slice for a signed-distance slice");
   struct Args {
-    std::string file, output, slice, view = "iso", mode = "shaded";
+    std::string file, output, slice, view = "iso", mode = "shaded", up = "y";
     RenderOptions opt;
     std::vector<int> tiles;
     std::vector<double> rotate, bounds;
@@ -89,11 +89,15 @@ void register_render(CLI::App& app) {
                                 "Signed-distance picture of an axis plane, AXIS=VALUE: z=0.3 shows (x, y), "
                                 "y=.. shows (x, z), x=.. shows (y, z)")
                     ->check(slice_syntax());
-  auto* view = cmd->add_option("--view", a->view, "3D: the direction to look from (y is up; front looks from +z)")
+  auto* view = cmd->add_option("--view", a->view,
+                               "3D: the direction to look from (y up: front looks from +z; z up: front looks from -y)")
                    ->check(CLI::IsMember({"iso", "front", "back", "left", "right", "top", "bottom"}))
                    ->capture_default_str();
+  auto* up = cmd->add_option("--up", a->up, "3D: the up axis, y (Fidget's models) or z (CAD and 3D printing)")
+                 ->check(CLI::IsMember({"y", "z"}))
+                 ->capture_default_str();
   auto* rotate = cmd->add_option("--rotate", a->rotate,
-                                 "3D: yaw,pitch in degrees added to the view's (yaw turns about +y, pitch looks down)")
+                                 "3D: yaw,pitch in degrees added to the view's (yaw turns about the up axis, pitch looks down)")
                      ->delimiter(',')
                      ->expected(2);
   auto* mode = cmd->add_option("--mode", a->mode,
@@ -115,7 +119,7 @@ void register_render(CLI::App& app) {
                       ->check(positive_finite());
   three_d->excludes(slice)->excludes(z);
   slice->excludes(three_d)->excludes(z);
-  for (CLI::Option* o : {view, rotate, mode, ao, depth}) o->needs(three_d);
+  for (CLI::Option* o : {view, up, rotate, mode, ao, depth}) o->needs(three_d);
   contour->needs(slice);
 
   cmd->callback([a, three_d, slice, bounds, contour] {
@@ -145,6 +149,7 @@ void register_render(CLI::App& app) {
       o.depth_steps = a->depth_steps;
       if (!a->tiles.empty()) o.tiles = a->tiles;
       parse_view_direction(a->view, o.view);
+      o.z_up = a->up == "z";
       if (a->rotate.size() == 2) {
         o.yaw = a->rotate[0];
         o.pitch = a->rotate[1];

@@ -83,7 +83,8 @@ void fit_pixels(double a, double b, int size, int& count_a, int& count_b) {
   count_b = count(b);
 }
 
-Camera make_camera(const Box3& bounds, double yaw_degrees, double pitch_degrees, int size, int depth_steps) {
+Camera make_camera(const Box3& bounds, double yaw_degrees, double pitch_degrees, int size, int depth_steps,
+                   bool z_up) {
   if (bounds.empty() || !(bounds.size().x > 0 && bounds.size().y > 0 && bounds.size().z > 0))
     throw InputError("", 0, "the render bounds must have positive extent along x, y and z");
   if (size < 1 || size > 16384) throw InputError("", 0, "image size must be between 1 and 16384, got " + std::to_string(size));
@@ -92,9 +93,14 @@ Camera make_camera(const Box3& bounds, double yaw_degrees, double pitch_degrees,
   const double yaw = yaw_degrees * std::numbers::pi / 180, pitch = pitch_degrees * std::numbers::pi / 180;
   Camera c;
   c.center = bounds.center();
-  c.toward = snap(Vec3{std::sin(yaw) * std::cos(pitch), std::sin(pitch), std::cos(yaw) * std::cos(pitch)});
-  c.right = snap(Vec3{std::cos(yaw), 0, -std::sin(yaw)});
-  c.up = snap(cross(c.toward, c.right));
+  // In a y-up frame (front viewer at +z), then mapped to the model: with z up, the frame's
+  // (X, Y, Z) are the model's (x, z, -y), still right-handed.
+  auto model = [&](Vec3 v) { return snap(z_up ? Vec3{v.x, -v.z, v.y} : v); };
+  const Vec3 toward{std::sin(yaw) * std::cos(pitch), std::sin(pitch), std::cos(yaw) * std::cos(pitch)};
+  const Vec3 right{std::cos(yaw), 0, -std::sin(yaw)};
+  c.toward = model(toward);
+  c.right = model(right);
+  c.up = model(cross(toward, right));
   c.axis_aligned = is_axis(c.right) && is_axis(c.up) && is_axis(c.toward);
   // Half extents of the rotated box along each view axis.
   const Vec3 h = bounds.size() * 0.5;

@@ -55,7 +55,7 @@ void check_options(const Render3DOptions& o) {
 Camera camera_for(const Render3DOptions& o) {
   double yaw = 0, pitch = 0;
   view_angles(o.view, yaw, pitch);
-  return make_camera(o.bounds, yaw + o.yaw, pitch + o.pitch, o.size, o.depth_steps);
+  return make_camera(o.bounds, yaw + o.yaw, pitch + o.pitch, o.size, o.depth_steps, o.z_up);
 }
 
 const Vec3f kFacingViewer{0, 0, 1};

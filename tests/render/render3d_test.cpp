@@ -370,5 +370,45 @@ TEST(Camera, NamedViewsAreExactRightHandedFrames) {
   EXPECT_EQ(turned.toward, (Vec3{1, 0, 0}));
 }
 
+TEST(Camera, ZUpViews) {
+  // CAD's convention: front looks from -y with z up, right from +x, top from +z with y up.
+  struct Want {
+    ViewDirection v;
+    Vec3 right, up, toward;
+  };
+  const Want wants[] = {
+      {ViewDirection::Front, {1, 0, 0}, {0, 0, 1}, {0, -1, 0}}, {ViewDirection::Right, {0, 1, 0}, {0, 0, 1}, {1, 0, 0}},
+      {ViewDirection::Back, {-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},  {ViewDirection::Top, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}},
+      {ViewDirection::Bottom, {1, 0, 0}, {0, -1, 0}, {0, 0, -1}},
+  };
+  const Box3 box{{-1, -2, -3}, {1, 2, 3}};
+  for (const Want& w : wants) {
+    double yaw = 0, pitch = 0;
+    view_angles(w.v, yaw, pitch);
+    const Camera c = make_camera(box, yaw, pitch, 60, 0, true);
+    EXPECT_EQ(c.right, w.right) << view_direction_name(w.v);
+    EXPECT_EQ(c.up, w.up) << view_direction_name(w.v);
+    EXPECT_EQ(c.toward, w.toward) << view_direction_name(w.v);
+    EXPECT_EQ(cross(c.right, c.up), c.toward) << "right-handed";
+  }
+  // The front view of the box shows x (2 wide) by z (6 tall), 2 deep.
+  const Camera front = make_camera(box, 0, 0, 60, 0, true);
+  EXPECT_EQ(front.height, 60);
+  EXPECT_EQ(front.width, 20);
+  EXPECT_EQ(front.depth, 40);
+}
+
+TEST(Render3D, ZUpSphereDepths) {
+  Graph g;
+  const Vec3 c{0.2, 0.1, -0.3};
+  const Tape t = sphere_tape(g, c, 0.5);
+  for (ViewDirection v : {ViewDirection::Front, ViewDirection::Iso}) {
+    Render3DOptions o = options(48, v);
+    o.z_up = true;
+    expect_analytic_depths(render3d(t, o), o, [&](Vec3 p, Vec3 d) { return sphere_span(p, d, c, 0.5); },
+                           std::string("z up, ") + view_direction_name(v));
+  }
+}
+
 }  // namespace
 }  // namespace frep

@@ -100,6 +100,13 @@ TEST_F(RenderCli, ThreeDModesWriteTheLibrarysPictures) {
   so.mode = ShadeMode::Depth;
   EXPECT_EQ(depth.pixels, shade(render3d(tape(), d), so).pixels);
 
+  ASSERT_EQ(run("--3d --size 30 --up z --view front -o '" + path("z.png") + "'"), 0) << err();
+  Render3DOptions zo;
+  zo.size = 30;
+  zo.view = ViewDirection::Front;
+  zo.z_up = true;
+  EXPECT_EQ(load("z.png").pixels, shade(render3d(tape(), zo)).pixels);
+
   ASSERT_EQ(run("--3d --size 30 --ao -o '" + path("ao.png") + "'"), 0) << err();
   EXPECT_NE(load("ao.png").pixels, load("a.png").pixels);
 }
@@ -128,6 +135,8 @@ TEST_F(RenderCli, BadCommandLines) {
   EXPECT_EQ(run("--3d --view sideways" + out), 2);
   EXPECT_NE(err().find("--view"), std::string::npos) << err();
   EXPECT_EQ(run("--3d --mode fancy" + out), 2);
+  EXPECT_EQ(run("--3d --up x" + out), 2);
+  EXPECT_EQ(run("--up z" + out), 2) << "--up needs --3d";
   EXPECT_EQ(run("--view front" + out), 2) << "--view needs --3d";
   EXPECT_NE(err().find("--3d"), std::string::npos) << err();
   EXPECT_EQ(run("--ao" + out), 2);

@@ -1,6 +1,7 @@
 // The orthographic camera of the 3D renderer: the direction a box of space is seen from, and the
-// grid of pixels and depth samples that covers it. y is up (as in Fidget's models); the front
-// view looks from +z, so the image shows x to the right and y up.
+// grid of pixels and depth samples that covers it. By default y is up (as in Fidget's models) and
+// the front view looks from +z, showing x to the right; with z up (CAD and 3D-printing models)
+// the front view looks from -y, showing x to the right and z up, and the top view looks from +z.
 #pragma once
 
 #include <string>
@@ -16,8 +17,9 @@ enum class ViewDirection { Iso, Front, Back, Left, Right, Top, Bottom };
 // "iso", "front", "back", "left", "right", "top", "bottom"; false for anything else.
 bool parse_view_direction(const std::string& name, ViewDirection& out);
 const char* view_direction_name(ViewDirection view);
-// The view's yaw (degrees about +y, 90 = from +x) and pitch (degrees, 90 = from +y, looking down).
-// Iso is yaw 45, pitch 35.26: from the direction (1, 1, 1).
+// The view's yaw (degrees about the up axis, 90 = from +x) and pitch (degrees, 90 = from above,
+// looking down). Iso is yaw 45, pitch 35.26: from the direction (1, 1, 1) with y up, (1, -1, 1)
+// with z up.
 void view_angles(ViewDirection view, double& yaw, double& pitch);
 
 // An orthographic view: view coordinates (u right, v up, w toward the viewer) have their origin
@@ -44,10 +46,12 @@ struct Camera {
   static std::vector<float> centers(const std::vector<float>& edges);
 };
 
-// The camera looking at `bounds` from (yaw, pitch) in degrees, with `size` pixels along the
-// longer side of the image and `depth_steps` depth cells (0: cubic voxels). Entries of the
-// rotation within 1e-12 of 0 or +-1 are snapped, so that the named views are exact.
-Camera make_camera(const Box3& bounds, double yaw_degrees, double pitch_degrees, int size, int depth_steps = 0);
+// The camera looking at `bounds` from (yaw, pitch) in degrees (yaw about the up axis), with
+// `size` pixels along the longer side of the image and `depth_steps` depth cells (0: cubic
+// voxels); `z_up` chooses z rather than y as the up axis. Entries of the rotation within 1e-12
+// of 0 or +-1 are snapped, so that the named views are exact.
+Camera make_camera(const Box3& bounds, double yaw_degrees, double pitch_degrees, int size, int depth_steps = 0,
+                   bool z_up = false);
 
 // Square pixels for a rectangle of extents (a, b) with `size` pixels along the longer side:
 // the pixel counts along a and b (each at least 1, the longer exactly `size`).

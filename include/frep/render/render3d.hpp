@@ -25,7 +25,8 @@ class Subdivider;
 struct Render3DOptions {
   int size = 1024;                               // pixels along the longer side of the image (1 to 16384)
   ViewDirection view = ViewDirection::Iso;       // the direction the model is seen from
-  double yaw = 0;                                // degrees added to the view's yaw (about +y; 90 turns front into right)
+  bool z_up = false;                             // z is the up axis (CAD models) instead of y (Fidget's models)
+  double yaw = 0;                                // degrees added to the view's yaw (about the up axis; 90 turns front into right)
   double pitch = 0;                              // degrees added to the view's pitch (90 turns front into top)
   Box3 bounds{{-1, -1, -1}, {1, 1, 1}};          // the region rendered; the shape is cut at its faces
   int depth_steps = 0;                           // depth cells per column; 0 = cubic voxels (the image's pixel size)
