@@ -19,15 +19,17 @@ cmake --build build --target bench_render3d >/dev/null
 out=$(FREP_RENDER3D_MODEL="$model" ./build/bench/bench_render3d 2>&1)
 echo "$out"
 field() { echo "$out" | awk -v n="$1" -v c="$2" '$1 == n {print $c}'; }
-t1=$(field "BM_Render3D/1/real_time" 2)
-t2=$(field "BM_Render3D/2/real_time" 2)
-c2=$(field "BM_Render3D/2/real_time" 4)
+t1=$(field "BM_Render3D/1/process_time/real_time" 2)
+c1=$(field "BM_Render3D/1/process_time/real_time" 4)
+t2=$(field "BM_Render3D/2/process_time/real_time" 2)
+c2=$(field "BM_Render3D/2/process_time/real_time" 4)
 bf=$(field "BM_Render3DBruteForce/iterations:1/manual_time" 2)
+bfc=$(echo "$out" | sed -n 's/.*BM_Render3DBruteForce.*cpu_ms=\([0-9.e+k]*\).*/\1/p' | sed 's/k$/e3/')
 echo
-echo "$(basename "$model"), ${FREP_RENDER3D_SIZE:-1024}x${FREP_RENDER3D_SIZE:-1024}, view ${FREP_RENDER3D_VIEW:-front} (ms per warm re-render):"
-awk -v t1="$t1" -v t2="$t2" -v c2="$c2" -v bf="$bf" 'BEGIN {
-  printf "  1 thread:  %.0f ms   (%.0fx faster than brute force)\n", t1, bf / t1;
-  printf "  2 threads: %.0f ms   (%.0fx faster than brute force, %.2fx over 1 thread; main thread CPU %.0f ms)\n", t2, bf / t2, t1 / t2, c2;
-  printf "  brute force (every column on the full tape, SIMD, 1 thread): %.0f ms\n", bf;
+echo "$(basename "$model"), ${FREP_RENDER3D_SIZE:-1024}x${FREP_RENDER3D_SIZE:-1024}, view ${FREP_RENDER3D_VIEW:-front} (ms per warm re-render; CPU = all threads):"
+awk -v t1="$t1" -v c1="$c1" -v t2="$t2" -v c2="$c2" -v bf="$bf" -v bfc="$bfc" 'BEGIN {
+  printf "  1 thread:  %.0f ms (CPU %.0f ms)   %.0fx faster than brute force (CPU %.0fx)\n", t1, c1, bf / t1, bfc / c1;
+  printf "  2 threads: %.0f ms (CPU %.0f ms)   %.0fx faster than brute force, %.2fx over 1 thread\n", t2, c2, bf / t2, t1 / t2;
+  printf "  brute force (every column on the full tape, SIMD, 1 thread): %.0f ms (CPU %.0f ms)\n", bf, bfc;
 }'
-echo "  (machine load when measured: $(cut -d' ' -f1-3 /proc/loadavg))"
+echo "  (load average when measured: $(cut -d' ' -f1-3 /proc/loadavg); on a busy machine, compare CPU times)"
