@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "commands.hpp"
+#include "input.hpp"
 #include "frep/contour/mesher.hpp"
 #include "frep/error.hpp"
 #include "frep/io/load.hpp"
@@ -16,17 +17,6 @@
 
 namespace frep::cli {
 namespace {
-
-// The input: an expression file, or (later) a mesh converted to one first. Meshes are told
-// apart by their extension; once `frep convert` exists, the mesh branch becomes one call to it.
-Model load_input(const std::string& path) {
-  const MeshFormat f = format_from_extension(path);
-  if (f != MeshFormat::Unknown)
-    throw InputError(path, 0,
-                     std::string("meshes as input need frep convert (a ") + format_name(f) +
-                         " mesh must be converted to an expression first), which is not available yet");
-  return load_expression(path);
-}
 
 void check_output_path(const std::string& path) {
   const MeshFormat f = format_from_extension(path);
@@ -57,7 +47,7 @@ void register_mesh(CLI::App& app) {
     bool quiet = false;
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("INPUT", a->input, "Expression file (.vm or .rhai); meshes need frep convert first")->required();
+  cmd->add_option("INPUT", a->input, kFieldInputHelp)->required();
   cmd->add_option("-o,--output", a->output, "Output mesh (.stl binary, .obj or .ply binary), written atomically")
       ->required();
   auto* res = cmd->add_option("--resolution,-r", a->resolution, "Cells across the longest side of the bounds")

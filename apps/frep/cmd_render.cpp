@@ -7,6 +7,7 @@
 #include <cstdlib>
 
 #include "commands.hpp"
+#include "input.hpp"
 #include "frep/error.hpp"
 #include "frep/io/load.hpp"
 #include "frep/render/render2d.hpp"
@@ -70,7 +71,7 @@ void register_render(CLI::App& app) {
     bool three_d = false, ao = false, quiet = false;
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("FILE", a->file, "Expression file (.vm or .rhai)")->required();
+  cmd->add_option("FILE", a->file, kFieldInputHelp)->required();
   cmd->add_option("-o,--output", a->output, "Output image (.png; .pgm for grayscale pictures)")->required();
   cmd->add_option("--size,-s", a->opt.size, "Image width and height in pixels (3D and slices: the longer side)")
       ->capture_default_str()
@@ -137,7 +138,7 @@ void register_render(CLI::App& app) {
     }
     const bool grayscale = !three_d->count() && !slice->count() ? true : (three_d->count() && a->mode == "depth");
     check_image_path(a->output, grayscale ? 1 : 3);
-    const Model m = load_expression(a->file);
+    const Model m = load_input(a->file);
     const Tape tape = Tape::compile(*m.graph, m.root);
     const auto t0 = std::chrono::steady_clock::now();
     Image img;

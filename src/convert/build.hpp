@@ -66,6 +66,8 @@ class ExprBuilder {
   NodeId constant(double v) { return g_.constant(static_cast<float>(v)); }
   const Vec3& point(std::uint32_t i) const { return pts_[i]; }
   Graph& graph() { return g_; }
+  // The frame's coordinate nodes.
+  std::array<NodeId, 3> coords() const { return {x_, y_, z_}; }
 
  private:
   const std::array<NodeId, 3>& offset(std::uint32_t v);
