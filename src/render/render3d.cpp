@@ -110,7 +110,33 @@ struct Refiner {
     }
     grad.eval(t, us.data(), vs.data(), ws.data(), grads.data(), n);
     for (std::size_t i = 0; i < n; ++i) normals[i] = unit_normal(grads[i]);
+    // Where the point lands exactly on the surface, an exact distance such as sqrt(d^2) has
+    // gradient 0 by convention (sqrt'(0) = 0): take the normal from the bracket's ends instead,
+    // first the outside one (else flat surfaces come out striped where the interpolation hits
+    // 0 exactly).
+    for (const std::vector<float>* end : {&a, &b}) {
+      retry.clear();
+      for (std::size_t i = 0; i < n; ++i)
+        if (!usable(grads[i])) retry.push_back(static_cast<std::uint32_t>(i));
+      if (retry.empty()) return;
+      const std::size_t m = retry.size();
+      for (auto* v : {&ru, &rv, &rw}) v->resize(m);
+      rgrads.resize(m);
+      for (std::size_t k = 0; k < m; ++k) {
+        ru[k] = us[retry[k]], rv[k] = vs[retry[k]], rw[k] = (*end)[retry[k]];
+      }
+      grad.eval(t, ru.data(), rv.data(), rw.data(), rgrads.data(), m);
+      for (std::size_t k = 0; k < m; ++k)
+        if (usable(rgrads[k])) grads[retry[k]] = rgrads[k], normals[retry[k]] = unit_normal(rgrads[k]);
+    }
   }
+  static bool usable(const Grad& g) {
+    const float l = std::fabs(g.dx) + std::fabs(g.dy) + std::fabs(g.dz);
+    return l > 0 && std::isfinite(l);
+  }
+  std::vector<std::uint32_t> retry;
+  std::vector<float> ru, rv, rw;
+  std::vector<Grad> rgrads;
 };
 
 void atomic_min(int& slot, int v) {

@@ -7,10 +7,12 @@
 #include <cmath>
 #include <limits>
 
+#include "frep/convert/convert.hpp"
 #include "frep/error.hpp"
 #include "frep/expr/expr.hpp"
 #include "frep/io/load.hpp"
 #include "frep/render/render3d.hpp"
+#include "mesh_test_util.hpp"
 #include "test_util.hpp"
 
 namespace frep {
@@ -189,6 +191,33 @@ TEST(Render3D, SphereNormalsPointRadially) {
     EXPECT_GT(checked, 500);
     EXPECT_LT(worst, 2e-5) << view_direction_name(v);
   }
+}
+
+// A converted mesh is sqrt of a squared distance: its gradient is exactly 0 where a located
+// point lands on the surface (sqrt'(0) = 0). Every hit still gets its face's normal (an earlier
+// version fell back to facing the viewer there: flat faces came out striped).
+TEST(Render3D, NormalsOfExactDistancesWhereTheHitIsOnTheSurface) {
+  const ConvertResult r = convert_mesh(test::make_box({-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}));
+  const Tape t = Tape::compile(*r.model.graph, r.model.root);
+  const DepthMap map = render3d(t, options(96, ViewDirection::Iso, 10, 5));
+  const Camera& cam = map.camera;
+  int checked = 0;
+  for (int y = 0; y < map.height(); ++y)
+    for (int x = 0; x < map.width(); ++x) {
+      if (!map.hit(x, y)) continue;
+      const Vec3f n = map.normal[map.index(x, y)];
+      double best = 1e9;
+      for (int axis = 0; axis < 3; ++axis)
+        for (double s : {-1.0, 1.0}) {
+          Vec3 m{0, 0, 0};
+          m[axis] = s;
+          const Vec3 want{dot(m, cam.right), dot(m, cam.up), dot(m, cam.toward)};
+          best = std::min(best, std::fabs(n.x - want.x) + std::fabs(n.y - want.y) + std::fabs(n.z - want.z));
+        }
+      EXPECT_LT(best, 1e-4) << "pixel " << x << ", " << y << ": normal " << n.x << " " << n.y << " " << n.z;
+      ++checked;
+    }
+  EXPECT_GT(checked, 1000);
 }
 
 bool same_value(float a, float b) { return test::same_value(a, b); }
