@@ -13,6 +13,9 @@ out=docs/images
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
+# The demo mesh (examples/bracket.obj), converted on the way in: a 3D view and its distance slice.
+frep render examples/bracket.obj --3d --up z --view iso --ao --size 320 -o $out/bracket_3d.png
+frep render examples/bracket.obj --slice z=0 --size 320 -o $out/bracket_slice.png
 # Fidget's bear head, seen from (-1, 1, 1) so that the face shows, framed by its bounds.
 bear="$data/vm/bear.vm --3d --view iso --rotate -90,0 --bounds -0.7,-0.65,-0.7,1,0.85,0.65"
 frep render $bear --size 300 --ao -o $out/bear_shaded.png
