@@ -99,6 +99,14 @@ class Subdivider {
 
  private:
   static constexpr int kLanes = IntervalBatchEvaluator::kLanes;
+  // Tapes from this size on are big: a child keeping nearly all of one uses it instead of a
+  // copy, and groups hold fewer boxes, so that a level keeps at most about kGroupInstructions
+  // instructions of children's tapes at once (not 16 copies of a multi-million-node tape).
+  static constexpr std::size_t kBigTape = std::size_t{1} << 18;
+  static constexpr std::size_t kGroupInstructions = std::size_t{1} << 22;
+  static int group_lanes(const Tape& t) {
+    return static_cast<int>(std::clamp<std::size_t>(kGroupInstructions / std::max<std::size_t>(t.size(), 1), 1, kLanes));
+  }
   struct Worker {
     IntervalBatchEvaluator boxes;
     std::vector<std::array<Tape, kLanes>> tapes;  // per level: the current group's children
@@ -129,6 +137,7 @@ void Subdivider::split(Worker& w, const Tape& t, const SampleGrid& grid, int lev
                        Visitor& v, int worker, Outs&& outs, Next&& next) {
   const int step = options_.tiles[static_cast<std::size_t>(level)];
   const bool last = level + 1 == static_cast<int>(options_.tiles.size());
+  const int lanes = group_lanes(t);
   IndexBox boxes[kLanes];
   Interval xi[kLanes], yi[kLanes], zi[kLanes];
   int count = 0, group = 0;
@@ -147,7 +156,15 @@ void Subdivider::split(Worker& w, const Tape& t, const SampleGrid& grid, int lev
       if (!reuse) w.boxes.simplify(t, open, dst, last);
       for (std::uint32_t bits = open; bits; bits &= bits - 1) {
         const int k = __builtin_ctz(bits);
-        next(Item{boxes[k], reuse ? &t : &dst[k]});
+        const Tape* child = reuse ? &t : &dst[k];
+        // A child that keeps nearly all of a big parent: the parent serves (it is valid in the
+        // child's box), and the copy's memory goes back (converted meshes: millions of
+        // instructions at the coarse levels).
+        if (!reuse && t.size() >= kBigTape && dst[k].size() * 8 > t.size() * 7 && (!last || !t.code().empty())) {
+          dst[k] = Tape();
+          child = &t;
+        }
+        next(Item{boxes[k], child});
       }
     }
     count = 0;
@@ -165,7 +182,7 @@ void Subdivider::split(Worker& w, const Tape& t, const SampleGrid& grid, int lev
         xi[count] = grid.range(0, b.lo[0], b.hi[0]);
         yi[count] = grid.range(1, b.lo[1], b.hi[1]);
         zi[count] = grid.range(2, b.lo[2], b.hi[2]);
-        if (++count == kLanes) flush();
+        if (++count == lanes) flush();
       }
   if (count) flush();
 }
@@ -197,22 +214,24 @@ void Subdivider::run(const Tape& tape, const SampleGrid& grid, const IndexBox& r
   std::vector<Item> frontier{{region, &tape}};
   for (int level = 0; level < bfs_levels; ++level) {
     const int step = options_.tiles[static_cast<std::size_t>(level)];
-    std::size_t most = 0;  // children of the largest frontier box
-    for (const Item& it : frontier) {
+    // Tape slots per frontier box: kLanes per group of children.
+    std::vector<std::size_t> first(frontier.size() + 1, 0);
+    for (std::size_t i = 0; i < frontier.size(); ++i) {
+      const Item& it = frontier[i];
       std::size_t c = 1;
       for (int a = 0; a < 3; ++a) c *= static_cast<std::size_t>((it.box.extent(a) + step - 1) / step);
-      most = std::max(most, c);
+      const std::size_t lanes = static_cast<std::size_t>(group_lanes(*it.tape));
+      first[i + 1] = first[i] + (c + lanes - 1) / lanes * kLanes;
     }
-    const std::size_t groups = (most + kLanes - 1) / kLanes;
     std::vector<Tape>& store = frontier_tapes_[static_cast<std::size_t>(level)];
-    if (store.size() < frontier.size() * groups * kLanes) store.resize(frontier.size() * groups * kLanes);
+    if (store.size() < first.back()) store.resize(first.back());
     std::vector<std::vector<Item>> parts(frontier.size());
     pool_->parallel_for(static_cast<int>(frontier.size()), [&](int wi, int i) {
       Worker& w = *workers_[static_cast<std::size_t>(wi)];
       const Item& it = frontier[static_cast<std::size_t>(i)];
       std::vector<Item>& out = parts[static_cast<std::size_t>(i)];
       auto keep = [&](const Item& child) { out.push_back(child); };
-      auto tapes = [&](int g) { return &store[(static_cast<std::size_t>(i) * groups + static_cast<std::size_t>(g)) * kLanes]; };
+      auto tapes = [&](int g) { return &store[first[static_cast<std::size_t>(i)] + static_cast<std::size_t>(g) * kLanes]; };
       if (level + 1 == levels) {
         // The frontier is the last level: its boxes are leaves.
         split(w, *it.tape, grid, level, it.box, v, wi, tapes, [&](const Item& child) { v.leaf(wi, *child.tape, child.box); });
