@@ -57,7 +57,9 @@ struct SampleGrid {
 struct SubdivisionOptions {
   std::vector<int> tiles = {256, 64, 16};  // box edge per level in grid steps, largest first
   int threads = 0;                         // worker threads; 0 = all hardware threads
-  int breadth_first_levels = 2;            // levels expanded breadth first to make parallel work
+  int breadth_first_levels = 2;            // levels expanded breadth first to make parallel work; 0: none,
+                                           // the first level's boxes run in parallel, each from the whole
+                                           // tape (least memory: for huge tapes where few boxes settle)
 };
 
 // Reusable: keeps the pool, per-worker evaluators and tape storage between runs.
@@ -206,6 +208,25 @@ void Subdivider::run(const Tape& tape, const SampleGrid& grid, const IndexBox& r
           [&](int) { return w.tapes[static_cast<std::size_t>(level + 1)].data(); },
           [&](const Item& child) { self(self, wi, child, level + 1); });
   };
+
+  if (options_.breadth_first_levels <= 0) {
+    // Every first-level box on its own: split() over a parent that is the box itself.
+    std::vector<IndexBox> top;
+    const int step = options_.tiles[0];
+    for (int z = region.lo[2]; z < region.hi[2]; z += step)
+      for (int y = region.lo[1]; y < region.hi[1]; y += step)
+        for (int x = region.lo[0]; x < region.hi[0]; x += step)
+          top.push_back({{x, y, z}, {std::min(x + step, region.hi[0]), std::min(y + step, region.hi[1]), std::min(z + step, region.hi[2])}});
+    pool_->parallel_for(static_cast<int>(top.size()), [&](int wi, int i) {
+      Worker& w = *workers_[static_cast<std::size_t>(wi)];
+      split(w, tape, grid, 0, top[static_cast<std::size_t>(i)], v, wi, [&](int) { return w.tapes[0].data(); },
+            [&](const Item& child) {
+              if (levels == 1) v.leaf(wi, *child.tape, child.box);
+              else descend(descend, wi, child, 0);
+            });
+    });
+    return;
+  }
 
   // Breadth first for the first levels, so that the parallel work items are many and small
   // enough to balance. Simplified tapes of the frontier are kept per level.

@@ -1,0 +1,129 @@
+// The subdivision driver: every sample of the grid is covered exactly once, by a settled box or a
+// leaf; each leaf's tape gives the whole tape's values at the leaf's samples, bit for bit; and the
+// boxes it visits are the same for every thread count and breadth-first setting (0: first-level
+// boxes in parallel from the whole tape), also for tapes big enough to take the driver's
+// big-tape paths (fewer boxes per group, children reusing their parent).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <random>
+#include <set>
+#include <tuple>
+
+#include "frep/eval/evaluators.hpp"
+#include "frep/eval/subdivision.hpp"
+#include "frep/expr/expr.hpp"
+
+namespace frep {
+namespace {
+
+// A union of n small spheres scattered in [-1, 0] x [-1, 1]^2 (a tape of about 10 n
+// instructions; boxes with x > 0 settle).
+Tape spheres(Graph& g, int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), h(-1.0f, 0.0f);
+  std::vector<Expr> terms;
+  for (int i = 0; i < n; ++i)
+    terms.push_back(sqrt(square(g.x() - h(rng)) + square(g.y() - u(rng)) + square(g.z() - u(rng))) - 0.05f);
+  while (terms.size() > 1) {
+    std::vector<Expr> next;
+    for (std::size_t i = 0; i + 1 < terms.size(); i += 2) next.push_back(min(terms[i], terms[i + 1]));
+    if (terms.size() % 2) next.push_back(terms.back());
+    terms = next;
+  }
+  return Tape::compile(g, terms[0].id());
+}
+
+SampleGrid grid(int n) {
+  SampleGrid s;
+  for (int a = 0; a < 3; ++a)
+    for (int i = 0; i < n; ++i) s.coords[a].push_back(-1.0f + 2.0f * static_cast<float>(i) / static_cast<float>(n - 1));
+  return s;
+}
+
+struct Recorder {
+  const Tape& whole;
+  const SampleGrid& grid;
+  std::mutex m;
+  std::set<std::tuple<int, int, int, int, int, int, bool>> boxes;  // lo, hi, leaf
+  std::vector<int> covered;
+  std::map<std::tuple<int, int, int>, std::vector<float>>& whole_values;  // per leaf, shared by runs
+  std::string mismatch;
+  BatchEvaluator eval_leaf, eval_whole;
+
+  Recorder(const Tape& t, const SampleGrid& g, std::map<std::tuple<int, int, int>, std::vector<float>>& cache)
+      : whole(t), grid(g), covered(static_cast<std::size_t>(g.count(0) * g.count(1) * g.count(2)), 0), whole_values(cache) {}
+  void cover(const IndexBox& b) {
+    for (int z = b.lo[2]; z < b.hi[2]; ++z)
+      for (int y = b.lo[1]; y < b.hi[1]; ++y)
+        for (int x = b.lo[0]; x < b.hi[0]; ++x) ++covered[static_cast<std::size_t>((z * grid.count(1) + y) * grid.count(0) + x)];
+  }
+  bool settled(int, const IndexBox& b, Interval v) {
+    if (!(v.lo > 0 || v.hi < 0)) return false;
+    std::lock_guard<std::mutex> l(m);
+    boxes.insert({b.lo[0], b.lo[1], b.lo[2], b.hi[0], b.hi[1], b.hi[2], false});
+    cover(b);
+    return true;
+  }
+  void leaf(int, const Tape& t, const IndexBox& b) {
+    std::lock_guard<std::mutex> l(m);
+    boxes.insert({b.lo[0], b.lo[1], b.lo[2], b.hi[0], b.hi[1], b.hi[2], true});
+    cover(b);
+    // The leaf's corners: its tape against the whole tape.
+    std::vector<float> xs, ys, zs;
+    for (int z : {b.lo[2], b.hi[2] - 1})
+      for (int y : {b.lo[1], b.hi[1] - 1})
+        for (int x : {b.lo[0], b.hi[0] - 1}) {
+          xs.push_back(grid.coords[0][static_cast<std::size_t>(x)]);
+          ys.push_back(grid.coords[1][static_cast<std::size_t>(y)]);
+          zs.push_back(grid.coords[2][static_cast<std::size_t>(z)]);
+        }
+    std::vector<float> a(xs.size());
+    eval_leaf.eval(t, xs.data(), ys.data(), zs.data(), a.data(), xs.size());
+    std::vector<float>& w = whole_values[{b.lo[0], b.lo[1], b.lo[2]}];
+    if (w.empty()) {
+      w.resize(xs.size());
+      eval_whole.eval(whole, xs.data(), ys.data(), zs.data(), w.data(), xs.size());
+    }
+    for (std::size_t i = 0; i < a.size(); ++i)
+      if (std::memcmp(&a[i], &w[i], sizeof(float)) != 0 && mismatch.empty())
+        mismatch = "leaf at " + std::to_string(b.lo[0]) + "," + std::to_string(b.lo[1]) + "," + std::to_string(b.lo[2]);
+  }
+};
+
+void check(int spheres_count, int n, std::vector<int> tiles) {
+  Graph g;
+  const Tape t = spheres(g, spheres_count, 7);
+  const SampleGrid s = grid(n);
+  std::set<std::tuple<int, int, int, int, int, int, bool>> reference;
+  std::map<std::tuple<int, int, int>, std::vector<float>> cache;
+  for (int bfs : {0, 1, 2})
+    for (int threads : {1, 2}) {
+      SCOPED_TRACE("tape " + std::to_string(t.size()) + ", breadth first " + std::to_string(bfs) + ", threads " +
+                   std::to_string(threads));
+      Subdivider d({tiles, threads, bfs});
+      Recorder r(t, s, cache);
+      d.run(t, s, r);
+      EXPECT_EQ(r.mismatch, "");
+      EXPECT_TRUE(std::all_of(r.covered.begin(), r.covered.end(), [](int c) { return c == 1; }));
+      if (reference.empty()) reference = r.boxes;
+      EXPECT_EQ(r.boxes, reference);
+    }
+  // Something was settled and something reached the leaves.
+  int leaves = 0;
+  for (const auto& b : reference) leaves += std::get<6>(b);
+  EXPECT_GT(leaves, 0);
+  EXPECT_LT(static_cast<std::size_t>(leaves), reference.size());
+}
+
+TEST(Subdivision, SmallTapeCoversEveryBoxOnceWithExactLeafTapes) { check(40, 48, {16, 8, 4}); }
+
+// Above the driver's big-tape threshold (2^18 instructions).
+TEST(Subdivision, BigTapeTakesTheSameBoxes) { check(30000, 24, {12, 6, 3}); }
+
+}  // namespace
+}  // namespace frep
