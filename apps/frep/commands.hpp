@@ -26,6 +26,7 @@ void register_check(CLI::App& app);
 void register_sdf(CLI::App& app);
 void register_convert(CLI::App& app);
 void register_export(CLI::App& app);
+void register_sample(CLI::App& app);
 
 inline void register_commands(CLI::App& app) {
   register_info(app);
@@ -35,6 +36,7 @@ inline void register_commands(CLI::App& app) {
   register_sdf(app);
   register_convert(app);
   register_export(app);
+  register_sample(app);
 }
 
 }  // namespace frep::cli
