@@ -63,7 +63,7 @@ void register_sample(CLI::App& app) {
                                "bounds, ends included")
                    ->check(CLI::Range(2, 4096));
   cmd->add_option("--bounds", a->bounds,
-                  "x0,y0,z0,x1,y1,z1 (default: a mesh's box grown by 5% of its diagonal on every side; [-1,1]^3 "
+                  "x0,y0,z0,x1,y1,z1 (default: the cube around a mesh's box, 5% of its diagonal beyond it; [-1,1]^3 "
                   "for an expression)")
       ->delimiter(',')
       ->expected(6);

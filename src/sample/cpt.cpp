@@ -37,7 +37,7 @@
 namespace frep::sample_detail {
 namespace {
 
-constexpr int kCell = 8;                  // samples per edge of a bounding cell
+constexpr int kCell = 4;                  // samples per edge of a bounding cell
 constexpr int kMaxPlanes = 24;            // half-spaces per polyhedron (extra vertex edges are dropped: conservative)
 constexpr std::uint32_t kNoOwner = 0xffffffffu;
 
@@ -337,62 +337,105 @@ bool index_box(const Context& ctx, const Shape& s, double reach, int lo[3], int 
   return true;
 }
 
-// Scans one feature's polyhedron over the slices [i0, i1) (within its index box).
-std::uint64_t scan(const Context& ctx, const Shape& s, std::uint32_t id, const int lo[3], const int hi[3], int i0,
-                   int i1, double* best, std::uint32_t* owner) {
+// Corners of the polyhedron capped at `reach` (its convex hull).
+int shape_points(const Shape& s, double reach, Vec3* out) {
+  int n = 0;
+  if (s.wide) {
+    const Box3 b = shape_box(s, reach);
+    for (int k = 0; k < 8; ++k) out[n++] = {(k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z};
+    return n;
+  }
+  for (int k = 0; k < s.np; ++k) {
+    out[n++] = s.p[k];
+    for (int t = 0; t < s.ntip; ++t) out[n++] = s.p[k] + s.tip[t] * reach;
+  }
+  return n;
+}
+
+struct P2 {
+  double x, y;
+};
+
+// Convex hull of points in the plane, counter-clockwise (Andrew's monotone chain); returns its size.
+int hull2(P2* p, int n, P2* h) {
+  std::sort(p, p + n, [](const P2& a, const P2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+  auto cross2 = [](const P2& o, const P2& a, const P2& b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); };
+  int k = 0;
+  for (int i = 0; i < n; ++i) {
+    while (k >= 2 && cross2(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  for (int i = n - 2, t = k + 1; i >= 0; --i) {
+    while (k >= t && cross2(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  return n > 1 ? k - 1 : n;
+}
+
+// Scans one feature's polyhedron over the slices [i0, i1) (within its index box): the slices
+// and rows that meet the polyhedron come from its shadow on the (x, y) plane (the hull of its
+// corners' shadows); the run of samples along each z row, from the half-spaces.
+std::uint64_t scan(const Context& ctx, const Shape& s, double reach, std::uint32_t id, const int lo[3],
+                   const int hi[3], int i0, int i1, double* best, std::uint32_t* owner) {
   const GridSpec& g = ctx.grid;
   const std::vector<double>& X = ctx.coords[0];
   const std::vector<double>& Y = ctx.coords[1];
   const std::vector<double>& Z = ctx.coords[2];
-  const double y0 = Y[0], z0 = Z[0], hy = ctx.h[1], hz = ctx.h[2];
+  const double x0 = X[0], y0 = Y[0], z0 = Z[0], hx = ctx.h[0], hy = ctx.h[1], hz = ctx.h[2];
+  Vec3 pts[2 * kMaxPlanes + 8];
+  const int np = shape_points(s, reach, pts);
+  P2 sh[2 * kMaxPlanes + 8], hull[2 * kMaxPlanes + 10];
+  for (int k = 0; k < np; ++k) sh[k] = {pts[k].x, pts[k].y};
+  const int nhull = hull2(sh, np, hull);
+  double xmin = INFINITY, xmax = -INFINITY;
+  for (int k = 0; k < nhull; ++k) xmin = std::min(xmin, hull[k].x), xmax = std::max(xmax, hull[k].x);
+  // Rows within a hair of the shadow are scanned too: the half-spaces (with their margin) decide.
+  const double pad = 1e-6;
+  const int ia = std::max({i0, lo[0], static_cast<int>(std::ceil((xmin - x0) / hx - pad))});
+  const int ib = std::min({i1 - 1, hi[0], static_cast<int>(std::floor((xmax - x0) / hx + pad))});
+  // Per half-space: 1 / n.z and the constant part of the row bound.
+  double inv[kMaxPlanes], rx[kMaxPlanes];
   std::uint64_t evals = 0;
-  struct P2 {
-    double y, z;
-  };
-  P2 poly[2][2 * kMaxPlanes + 8];
-  for (int i = std::max(i0, lo[0]); i <= std::min(i1 - 1, hi[0]); ++i) {
+  for (int i = ia; i <= ib; ++i) {
     const double x = X[static_cast<std::size_t>(i)];
-    // The slice's cross-section: the index box's rectangle clipped by every half-plane.
-    const double ya = Y[static_cast<std::size_t>(lo[1])] - hy, yb = Y[static_cast<std::size_t>(hi[1])] + hy;
-    const double za = Z[static_cast<std::size_t>(lo[2])] - hz, zb = Z[static_cast<std::size_t>(hi[2])] + hz;
-    int n = 4, cur = 0;
-    poly[0][0] = {ya, za}, poly[0][1] = {yb, za}, poly[0][2] = {yb, zb}, poly[0][3] = {ya, zb};
-    for (int k = 0; k < s.nh && n > 0; ++k) {
-      const Half& hf = s.h[k];
-      const double r = hf.d - hf.n.x * x + ctx.margin;
-      const P2* in = poly[cur];
-      P2* out = poly[1 - cur];
-      int m = 0;
-      for (int v = 0; v < n; ++v) {
-        const P2 a = in[v], b = in[(v + 1) % n];
-        const double fa = hf.n.y * a.y + hf.n.z * a.z - r, fb = hf.n.y * b.y + hf.n.z * b.z - r;
-        if (fa <= 0) out[m++] = a;
-        if ((fa < 0 && fb > 0) || (fa > 0 && fb < 0)) {
-          const double t = fa / (fa - fb);
-          out[m++] = {a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t};
-        }
-      }
-      n = m;
-      cur = 1 - cur;
-    }
-    if (n == 0) continue;
+    // The shadow's extent in y at this x (edges meeting the vertical line, within the pad).
+    const double xl = x - pad * hx, xu = x + pad * hx;
     double ymin = INFINITY, ymax = -INFINITY;
-    for (int v = 0; v < n; ++v) ymin = std::min(ymin, poly[cur][v].y), ymax = std::max(ymax, poly[cur][v].y);
-    const int j0 = std::max(lo[1], static_cast<int>(std::ceil((ymin - y0) / hy - 1e-9)));
-    const int j1 = std::min(hi[1], static_cast<int>(std::floor((ymax - y0) / hy + 1e-9)));
-    for (int j = j0; j <= j1; ++j) {
+    for (int k = 0; k < nhull; ++k) {
+      const P2 a = hull[k], b = hull[(k + 1) % std::max(nhull, 1)];
+      const double ex0 = std::min(a.x, b.x), ex1 = std::max(a.x, b.x);
+      if (ex1 < xl || ex0 > xu) continue;
+      if (ex1 - ex0 <= 2 * pad * hx) {
+        ymin = std::min({ymin, a.y, b.y}), ymax = std::max({ymax, a.y, b.y});
+        continue;
+      }
+      const double t = std::clamp((x - a.x) / (b.x - a.x), 0.0, 1.0);
+      const double y = a.y + (b.y - a.y) * t;
+      ymin = std::min(ymin, y), ymax = std::max(ymax, y);
+    }
+    if (!(ymin <= ymax)) continue;
+    const int ja = std::max(lo[1], static_cast<int>(std::ceil((ymin - y0) / hy - pad)));
+    const int jb = std::min(hi[1], static_cast<int>(std::floor((ymax - y0) / hy + pad)));
+    if (ja > jb) continue;
+    for (int k = 0; k < s.nh; ++k) {
+      rx[k] = s.h[k].d - s.h[k].n.x * x + ctx.margin;
+      inv[k] = s.h[k].n.z != 0 ? 1 / s.h[k].n.z : 0;
+    }
+    for (int j = ja; j <= jb; ++j) {
       const double y = Y[static_cast<std::size_t>(j)];
       double zl = -INFINITY, zu = INFINITY;
       for (int k = 0; k < s.nh; ++k) {
-        const Half& hf = s.h[k];
-        const double r = hf.d - hf.n.x * x - hf.n.y * y + ctx.margin;
-        if (hf.n.z > 0) zu = std::min(zu, r / hf.n.z);
-        else if (hf.n.z < 0) zl = std::max(zl, r / hf.n.z);
+        const double r = rx[k] - s.h[k].n.y * y;
+        const double nz = s.h[k].n.z;
+        if (nz > 0) zu = std::min(zu, r * inv[k]);
+        else if (nz < 0) zl = std::max(zl, r * inv[k]);
         else if (r < 0) zu = -INFINITY;
       }
       if (!(zl <= zu)) continue;
-      const int k0 = std::max(lo[2], static_cast<int>(std::clamp(std::ceil((zl - z0) / hz - 1e-9), -1.0, 1e9)));
-      const int k1 = std::min(hi[2], static_cast<int>(std::clamp(std::floor((zu - z0) / hz + 1e-9), -1.0, 1e9)));
+      // Division by n.z replaced by a multiplication: widen by a relative hair to stay conservative.
+      const double wz = 1e-9 + 1e-12 * (std::fabs(zl) + std::fabs(zu)) / hz;
+      const int k0 = std::max(lo[2], static_cast<int>(std::clamp(std::ceil((zl - z0) / hz - wz), -1.0, 1e9)));
+      const int k1 = std::min(hi[2], static_cast<int>(std::clamp(std::floor((zu - z0) / hz + wz), -1.0, 1e9)));
       if (k0 > k1) continue;
       evals += static_cast<std::uint64_t>(k1 - k0 + 1);
       const std::size_t row = g.index(i, j, 0);
@@ -410,10 +453,23 @@ std::uint64_t scan(const Context& ctx, const Shape& s, std::uint32_t id, const i
           }
           break;
         }
-        case Kind::Edge:
-        case Kind::Vertex: {
+        case Kind::Edge: {
+          // |w x e|^2 with w = (wx, wy, wz): the cross product is linear in wz.
+          const Vec3 e = s.edir;
+          const double cx0 = wy * e.z, cy0 = -wx * e.z, cz = wx * e.y - wy * e.x;
           for (int k = k0; k <= k1; ++k) {
-            const double d2 = s.dist2({x, y, Z[static_cast<std::size_t>(k)]});
+            const double wz = Z[static_cast<std::size_t>(k)] - s.p[0].z;
+            const double cx = cx0 - wz * e.y, cy = cy0 + wz * e.x;
+            const double d2 = cx * cx + cy * cy + cz * cz;
+            if (d2 < bd[k] || (d2 == bd[k] && id < ow[k])) bd[k] = d2, ow[k] = id;
+          }
+          break;
+        }
+        case Kind::Vertex: {
+          const double r2 = wx * wx + wy * wy;
+          for (int k = k0; k <= k1; ++k) {
+            const double wz = Z[static_cast<std::size_t>(k)] - s.p[0].z;
+            const double d2 = r2 + wz * wz;
             if (d2 < bd[k] || (d2 == bd[k] && id < ow[k])) bd[k] = d2, ow[k] = id;
           }
           break;
@@ -479,6 +535,37 @@ void closest_point_transform(const MeshField& field, const GridSpec& grid, Threa
   for (std::uint32_t v = 0; v < topo.num_vertices(); ++v)
     if (!topo.vertex_faces(v).empty()) features.push_back({Kind::Vertex, 0, v, 0, {}, {}});
   FREP_ASSERT(features.size() < kNoOwner, "too many features");
+  {
+    // Spatial order (Morton code of a point of the feature): consecutive features then touch
+    // neighbouring rows of the scratch grids, which keeps the scan in cache.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> key(features.size());
+    const Box3& gb = grid.bounds;
+    auto spread = [](std::uint64_t v) {
+      v &= 0x1fffff;
+      v = (v | v << 32) & 0x1f00000000ffffull;
+      v = (v | v << 16) & 0x1f0000ff0000ffull;
+      v = (v | v << 8) & 0x100f00f00f00f00full;
+      v = (v | v << 4) & 0x10c30c30c30c30c3ull;
+      v = (v | v << 2) & 0x1249249249249249ull;
+      return v;
+    };
+    for (std::size_t i = 0; i < features.size(); ++i) {
+      const Feature& f = features[i];
+      const Vec3 p = f.kind == Kind::Face ? mesh.corner(f.element, 0)
+                     : f.kind == Kind::Edge ? mesh.vertices[topo.edge_vertices(f.element)[0]]
+                                            : mesh.vertices[f.element];
+      std::uint64_t code = 0;
+      for (int a = 0; a < 3; ++a) {
+        const double u = std::clamp((p[a] - gb.lo[a]) / (gb.hi[a] - gb.lo[a]), 0.0, 1.0);
+        code |= spread(static_cast<std::uint64_t>(u * 2097151.0)) << (2 - a);
+      }
+      key[i] = {code, static_cast<std::uint32_t>(i)};
+    }
+    std::sort(key.begin(), key.end());
+    std::vector<Feature> sorted(features.size());
+    for (std::size_t i = 0; i < key.size(); ++i) sorted[i] = features[key[i].second];
+    features.swap(sorted);
+  }
   pool.parallel_for_ranges(features.size(), 512, [&](int, std::size_t b, std::size_t e) {
     Shape s;
     for (std::size_t i = b; i < e; ++i) {
@@ -528,7 +615,7 @@ void closest_point_transform(const MeshField& field, const GridSpec& grid, Threa
       const Feature& f = features[id];
       if (!make_shape(ctx, f, sh)) continue;
       if (sh.cap) sh.add(sh.dir, sh.p[0] + sh.dir * f.reach);
-      ev += scan(ctx, sh, id, f.lo, f.hi, slab_begin(s), slab_begin(s + 1), best.data(), owner.data());
+      ev += scan(ctx, sh, f.reach, id, f.lo, f.hi, slab_begin(s), slab_begin(s + 1), best.data(), owner.data());
     }
     evaluations += ev;
     report("scan", 0.25 + 0.6 * (++slabs_done) / slabs);

@@ -36,7 +36,11 @@ void GridSpec::check() const {
 
 GridSpec cube_grid(const Box3& bounds, int n) { return GridSpec{bounds, {n, n, n}}; }
 
-Box3 default_mesh_bounds(const Box3& b, double margin) { return b.inflated(margin * length(b.size())); }
+Box3 default_mesh_bounds(const Box3& b, double margin) {
+  const Vec3 c = b.center(), s = b.size();
+  const double half = 0.5 * std::max({s.x, s.y, s.z}) + margin * length(s);
+  return {c - Vec3{half, half, half}, c + Vec3{half, half, half}};
+}
 
 namespace {
 

@@ -45,7 +45,8 @@ struct GridSpec {
 // A cube grid of n^3 samples over `bounds`.
 GridSpec cube_grid(const Box3& bounds, int n);
 
-// Default bounds for a mesh: its bounding box grown on every side by `margin` times its diagonal.
+// Default bounds for a mesh: the cube around its bounding box's centre whose side is the box's
+// largest extent plus twice `margin` times its diagonal (so cube grids have cubic voxels).
 Box3 default_mesh_bounds(const Box3& mesh_box, double margin = 0.05);
 
 enum class MeshGridMethod {
