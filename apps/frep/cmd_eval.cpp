@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "input.hpp"
 #include "frep/error.hpp"
 #include "frep/eval/point_cloud.hpp"
 #include "frep/io/atomic_file.hpp"
@@ -20,13 +21,13 @@ void register_eval(CLI::App& app) {
     bool grad = false;
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("FILE", a->file, "Expression file (.vm, .rhai or .frep)")->required();
+  cmd->add_option("FILE", a->file, kFieldInputHelp)->required();
   cmd->add_option("--points,-p", a->points,
                   "Points file, one 'x y z' per line (commas allowed; 'x y' means z = 0); - for stdin")
       ->required();
   cmd->add_flag("--grad,-g", a->grad, "Also print d/dx d/dy d/dz after each value");
   cmd->callback([a] {
-    const Model m = load_expression(a->file);
+    const Model m = load_input(a->file);
     const PointColumns<float> p = parse_points_f32(read_points_text(a->points), points_source_name(a->points));
     const Tape tape = Tape::compile(*m.graph, m.root);
     const std::size_t n = p.x.size();

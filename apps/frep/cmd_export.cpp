@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "input.hpp"
 #include "frep/error.hpp"
 #include "frep/export/c_source.hpp"
 #include "frep/export/glsl.hpp"
@@ -35,7 +36,7 @@ void register_export(CLI::App& app) {
     int nan_checks = -1;  // -1: the format's default
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("FILE", a->file, "Expression file (.vm, .rhai or .frep)")->required();
+  cmd->add_option("FILE", a->file, kFieldInputHelp)->required();
   cmd->add_option("-o,--output", a->output, "Output file ('-' for standard output)")->required();
   cmd->add_option("--format,-f", a->format, "glsl, shadertoy, c or latex")
       ->check(CLI::IsMember({"glsl", "shadertoy", "c", "latex"}));
@@ -118,7 +119,7 @@ void register_export(CLI::App& app) {
         throw CLI::ValidationError(e.detail());
       }
     }
-    const Model m = load_expression(a->file);
+    const Model m = load_input(a->file);
     const std::string source = std::filesystem::path(a->file).filename().string();
     auto produce = [&](std::ostream& out) { write(out, m, source); };
     if (a->output == "-") {

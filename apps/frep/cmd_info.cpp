@@ -3,6 +3,7 @@
 #include <array>
 
 #include "commands.hpp"
+#include "input.hpp"
 #include "frep/eval/tape.hpp"
 #include "frep/io/load.hpp"
 
@@ -11,9 +12,9 @@ namespace frep::cli {
 void register_info(CLI::App& app) {
   auto* cmd = app.add_subcommand("info", "Print node counts by opcode, variables used and tape length");
   auto file = std::make_shared<std::string>();
-  cmd->add_option("FILE", *file, "Expression file (.vm, .rhai or .frep)")->required();
+  cmd->add_option("FILE", *file, kFieldInputHelp)->required();
   cmd->callback([file] {
-    const Model m = load_expression(*file);
+    const Model m = load_input(*file);
     const std::vector<NodeId> nodes = reachable_nodes(*m.graph, m.root);
     std::array<std::size_t, kOpCount> counts{};
     for (NodeId id : nodes) ++counts[static_cast<int>(m.graph->node(id).op)];

@@ -1,43 +1,181 @@
+// frep render: the default black-and-white 2D picture (z = const), a shaded 3D view (--3d), or a
+// signed-distance slice of an axis plane (--slice).
 #include <fmt/core.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 
 #include "commands.hpp"
+#include "input.hpp"
 #include "frep/error.hpp"
 #include "frep/io/load.hpp"
 #include "frep/render/render2d.hpp"
+#include "frep/render/render3d.hpp"
+#include "frep/render/shade.hpp"
+#include "frep/render/slice.hpp"
 
 namespace frep::cli {
+namespace {
+
+// "z=0.3" -> axis 2, offset 0.3.
+bool parse_slice(const std::string& s, int& axis, float& offset) {
+  if (s.size() < 3 || s[1] != '=') return false;
+  const char a = static_cast<char>(std::tolower(static_cast<unsigned char>(s[0])));
+  if (a < 'x' || a > 'z') return false;
+  const char* begin = s.c_str() + 2;
+  char* end = nullptr;
+  const double v = std::strtod(begin, &end);
+  if (end == begin || *end != '\0' || !std::isfinite(v) || std::fabs(v) > 3.4e38) return false;
+  axis = a - 'x';
+  offset = static_cast<float>(v);
+  return true;
+}
+
+CLI::Validator slice_syntax() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        int axis = 0;
+        float offset = 0;
+        if (!parse_slice(s, axis, offset))
+          return "expected AXIS=VALUE with AXIS one of x, y, z and VALUE a finite number (e.g. z=0.3), got '" + s + "'";
+        return {};
+      },
+      "AXIS=VALUE");
+}
+
+CLI::Validator positive_finite() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(s, v) || !std::isfinite(v) || !(v > 0)) return "Value " + s + " is not a finite number > 0";
+        return {};
+      },
+      "FINITE > 0");
+}
+
+}  // namespace
 
 void register_render(CLI::App& app) {
   auto* cmd = app.add_subcommand(
-      "render", "Render a 2D expression (z = 0) over [-1,1]^2: white where the value is negative");
+      "render",
+      "Render an expression: by default its sign on z = const over [-1,1]^2 (white where negative); "
+      "--3d for a shaded view, --slice for a signed-distance slice");
   struct Args {
-    std::string file, output;
+    std::string file, output, slice, view = "iso", mode = "shaded", up = "y";
     RenderOptions opt;
-    bool quiet = false;
+    std::vector<int> tiles;
+    std::vector<double> rotate, bounds;
+    double contour = 0;
+    int depth_steps = 0;
+    bool three_d = false, ao = false, quiet = false;
   };
   auto a = std::make_shared<Args>();
-  cmd->add_option("FILE", a->file, "Expression file (.vm)")->required();
-  cmd->add_option("-o,--output", a->output, "Output image (.png or .pgm)")->required();
-  cmd->add_option("--size,-s", a->opt.size, "Image width and height in pixels")
+  cmd->add_option("FILE", a->file, kFieldInputHelp)->required();
+  cmd->add_option("-o,--output", a->output, "Output image (.png; .pgm for grayscale pictures)")->required();
+  cmd->add_option("--size,-s", a->opt.size, "Image width and height in pixels (3D and slices: the longer side)")
       ->capture_default_str()
       ->check(CLI::Range(1, 16384));
   cmd->add_option("--threads,-j", a->opt.threads, "Worker threads (0 = all cores)")
       ->capture_default_str()
       ->check(CLI::Range(0, 1024));
-  cmd->add_option("--z", a->opt.z, "Slice height for 3D expressions")->capture_default_str();
-  cmd->add_option("--tiles", a->opt.tiles,
-                  "Tile edge per subdivision level, largest first (advanced; default 256,64,16)")
-      ->delimiter(',')
-      ->capture_default_str();
+  auto* z = cmd->add_option("--z", a->opt.z, "Slice height for 3D expressions (the default 2D picture)")->capture_default_str();
+  cmd->add_option("--tiles", a->tiles,
+                  "Tile edge per subdivision level, largest first (advanced; default 256,64,16; with --3d halving from the image size down to 4)")
+      ->delimiter(',');
   cmd->add_flag("--quiet,-q", a->quiet, "Do not print where the image went");
-  cmd->callback([a] {
-    check_image_path(a->output);
-    const Model m = load_expression(a->file);
+
+  auto* three_d = cmd->add_flag("--3d", a->three_d, "Shaded 3D view of the surface f = 0 (orthographic)");
+  auto* slice = cmd->add_option("--slice", a->slice,
+                                "Signed-distance picture of an axis plane, AXIS=VALUE: z=0.3 shows (x, y), "
+                                "y=.. shows (x, z), x=.. shows (y, z)")
+                    ->check(slice_syntax());
+  auto* view = cmd->add_option("--view", a->view,
+                               "3D: the direction to look from (y up: front looks from +z; z up: front looks from -y)")
+                   ->check(CLI::IsMember({"iso", "front", "back", "left", "right", "top", "bottom"}))
+                   ->capture_default_str();
+  auto* up = cmd->add_option("--up", a->up, "3D: the up axis, y (Fidget's models) or z (CAD and 3D printing)")
+                 ->check(CLI::IsMember({"y", "z"}))
+                 ->capture_default_str();
+  auto* rotate = cmd->add_option("--rotate", a->rotate,
+                                 "3D: yaw,pitch in degrees added to the view's (yaw turns about the up axis, pitch looks down)")
+                     ->delimiter(',')
+                     ->expected(2);
+  auto* mode = cmd->add_option("--mode", a->mode,
+                               "3D: shaded (lit), depth (grayscale height map, white = near) or normals (RGB normal map)")
+                   ->check(CLI::IsMember({"shaded", "depth", "normals"}))
+                   ->capture_default_str();
+  auto* ao = cmd->add_flag("--ao", a->ao, "3D: ambient occlusion (darkens creases; from the depth map)");
+  auto* depth = cmd->add_option("--depth-steps", a->depth_steps,
+                                "3D: samples along each pixel's column (default 0: as many as pixels across the depth)")
+                    ->check(CLI::Range(0, 65536));
+  auto* bounds = cmd->add_option("--bounds", a->bounds,
+                                 "3D and slices: the region shown, x0,y0,z0,x1,y1,z1 (default -1,-1,-1,1,1,1); "
+                                 "3D views cut the shape at its faces")
+                     ->delimiter(',')
+                     ->expected(6);
+  auto* contour = cmd->add_option("--contour", a->contour,
+                                  "Slices: contour spacing in units of the field (default: about a tenth of the picture, "
+                                  "rounded to 1, 2 or 5 times a power of ten)")
+                      ->check(positive_finite());
+  three_d->excludes(slice)->excludes(z);
+  slice->excludes(three_d)->excludes(z);
+  for (CLI::Option* o : {view, up, rotate, mode, ao, depth}) o->needs(three_d);
+  contour->needs(slice);
+
+  cmd->callback([a, three_d, slice, bounds, contour] {
+    Box3 box{{-1, -1, -1}, {1, 1, 1}};
+    if (bounds->count()) {
+      if (!three_d->count() && !slice->count())
+        throw CLI::ValidationError("--bounds", "--bounds applies to --3d and --slice pictures only");
+      for (double v : a->bounds)
+        if (!std::isfinite(v)) throw CLI::ValidationError("--bounds", "the bounds must be finite numbers");
+      for (int i = 0; i < 3; ++i)
+        if (!(a->bounds[static_cast<std::size_t>(i)] < a->bounds[static_cast<std::size_t>(i) + 3]))
+          throw CLI::ValidationError("--bounds", fmt::format("the bounds are empty along {}: need {}0 < {}1", "xyz"[i],
+                                                             "xyz"[i], "xyz"[i]));
+      box = Box3{{a->bounds[0], a->bounds[1], a->bounds[2]}, {a->bounds[3], a->bounds[4], a->bounds[5]}};
+    }
+    const bool grayscale = !three_d->count() && !slice->count() ? true : (three_d->count() && a->mode == "depth");
+    check_image_path(a->output, grayscale ? 1 : 3);
+    const Model m = load_input(a->file);
     const Tape tape = Tape::compile(*m.graph, m.root);
     const auto t0 = std::chrono::steady_clock::now();
-    const Image img = render2d(tape, a->opt);
+    Image img;
+    if (three_d->count()) {
+      Render3DOptions o;
+      o.size = a->opt.size;
+      o.threads = a->opt.threads;
+      o.bounds = box;
+      o.depth_steps = a->depth_steps;
+      if (!a->tiles.empty()) o.tiles = a->tiles;
+      parse_view_direction(a->view, o.view);
+      o.z_up = a->up == "z";
+      if (a->rotate.size() == 2) {
+        o.yaw = a->rotate[0];
+        o.pitch = a->rotate[1];
+        if (!std::isfinite(o.yaw) || !std::isfinite(o.pitch))
+          throw CLI::ValidationError("--rotate", "the angles must be finite numbers (degrees)");
+      }
+      ShadeOptions so;
+      so.mode = a->mode == "depth" ? ShadeMode::Depth : a->mode == "normals" ? ShadeMode::Normals : ShadeMode::Shaded;
+      so.ambient_occlusion = a->ao;
+      so.threads = a->opt.threads;
+      img = shade(render3d(tape, o), so);
+    } else if (slice->count()) {
+      SliceOptions o;
+      parse_slice(a->slice, o.axis, o.offset);
+      o.size = a->opt.size;
+      o.threads = a->opt.threads;
+      o.bounds = box;
+      o.contour = contour->count() ? a->contour : 0;
+      if (!a->tiles.empty()) o.tiles = a->tiles;
+      img = render_slice(tape, o);
+    } else {
+      RenderOptions o = a->opt;
+      if (!a->tiles.empty()) o.tiles = a->tiles;
+      img = render2d(tape, o);
+    }
     const auto t1 = std::chrono::steady_clock::now();
     save_image(a->output, img);
     if (!a->quiet)

@@ -25,6 +25,7 @@ void register_render(CLI::App& app);
 void register_check(CLI::App& app);
 void register_sdf(CLI::App& app);
 void register_convert(CLI::App& app);
+void register_mesh(CLI::App& app);
 void register_export(CLI::App& app);
 void register_sample(CLI::App& app);
 
@@ -35,6 +36,7 @@ inline void register_commands(CLI::App& app) {
   register_check(app);
   register_sdf(app);
   register_convert(app);
+  register_mesh(app);
   register_export(app);
   register_sample(app);
 }

@@ -12,8 +12,8 @@
 //            there (their clamped value is bit-identical at that end).
 // Linear forms used only for their sign (prism sides, pseudonormal tests) are scaled so that
 // one coefficient is exactly 1: fewer constants and multiplications.
-// Signs: a cluster (a region and its gentle creases) has the sign of h; a sharp crease the sign
-// of h1 + h2 (its pseudonormal n1 + n2); a vertex the sign of (p - v) . N_v.
+// Signs (see Term): a cluster (a region and its gentle creases) is tested by h; a sharp crease by
+// h1 + h2 (its pseudonormal n1 + n2); a vertex by (p - v) . N_v.
 #include "convert/build.hpp"
 
 #include <algorithm>
@@ -189,33 +189,33 @@ NodeId ExprBuilder::vertex_term(const VertexTerm& v) {
   return g_.binary(Op::Mul, d2, g_.constant(kVertexShrink));
 }
 
+Term ExprBuilder::split(NodeId d2, NodeId sigma, const Vec3& at) {
+  // max(d2, -K sigma): d2 where sigma >= 0, at least K |sigma| (far beyond any squared distance
+  // except within float-invisible reach of sigma's zero) where sigma < 0; and the mirror.
+  return {g_.binary(Op::Max, d2, g_.binary(Op::Mul, sigma, g_.constant(-kGate))),
+          g_.binary(Op::Max, d2, g_.binary(Op::Mul, sigma, g_.constant(kGate))), at};
+}
+
 Term ExprBuilder::build(const TermSpec& spec, bool signed_terms, const Box3& box) {
-  const NodeId zero = g_.constant(0.0f);
   switch (spec.kind) {
     case TermSpec::Edge: {
       const EdgeTerm& e = f_.edges[spec.index];
       const NodeId d2 = edge_term(e);
-      NodeId sign = kNoNode;
-      if (signed_terms) {
-        // (p - a) . (n1 + n2): the sum of the two planes through the edge, unless the faces are
-        // nearly folded onto each other and the sum would cancel to noise: then directly.
-        const Vec3 n1 = f_.regions[e.region_a].normal, n2 = f_.regions[e.region_b].normal;
-        double scale;
-        const NodeId s = dot(n1, n2) > -0.5 ? g_.binary(Op::Add, plane(e.region_a), plane(e.region_b))
-                                            : sign_form(e.a, n1 + n2, scale);
-        sign = g_.binary(Op::Compare, s, zero);
-      }
-      return {d2, sign, spec.at};
+      if (!signed_terms) return {d2, kNoNode, spec.at};
+      // (p - a) . (n1 + n2): the sum of the two planes through the edge, unless the faces are
+      // nearly folded onto each other and the sum would cancel to noise: then directly.
+      const Vec3 n1 = f_.regions[e.region_a].normal, n2 = f_.regions[e.region_b].normal;
+      double scale;
+      const NodeId sigma = dot(n1, n2) > -0.5 ? g_.binary(Op::Add, plane(e.region_a), plane(e.region_b))
+                                              : sign_form(e.a, n1 + n2, scale);
+      return split(d2, sigma, spec.at);
     }
     case TermSpec::Vertex: {
       const VertexTerm& v = f_.vertices[spec.index];
       const NodeId d2 = vertex_term(v);
-      NodeId sign = kNoNode;
-      if (signed_terms) {
-        double scale;
-        sign = g_.binary(Op::Compare, sign_form(v.v, v.pseudonormal, scale), zero);
-      }
-      return {d2, sign, spec.at};
+      if (!signed_terms) return {d2, kNoNode, spec.at};
+      double scale;
+      return split(d2, sign_form(v.v, v.pseudonormal, scale), spec.at);
     }
     case TermSpec::Cluster: break;
   }
@@ -223,18 +223,18 @@ Term ExprBuilder::build(const TermSpec& spec, bool signed_terms, const Box3& box
   std::vector<Term> members{{region_term(spec.index), kNoNode, f_.regions[spec.index].center}};
   for (std::uint32_t i : cluster_[spec.index])
     members.push_back({edge_term(f_.edges[i]), kNoNode, (pts_[f_.edges[i].a] + pts_[f_.edges[i].b]) * 0.5});
-  Term t{kNoNode, kNoNode, spec.at};
+  NodeId d2;
   if (members.size() == 1) {
-    t.d2 = members[0].d2;
+    d2 = members[0].d2;
   } else {
     std::vector<Vec3> at(members.size());
     for (std::size_t i = 0; i < members.size(); ++i) at[i] = members[i].at;
     const std::vector<std::uint32_t> order = morton_order(at, box);
-    t.d2 = balanced_tree<NodeId>(members.size(), [&](std::size_t i) { return members[order[i]].d2; },
-                                 [&](NodeId a, NodeId b) { return g_.binary(Op::Min, a, b); });
+    d2 = balanced_tree<NodeId>(members.size(), [&](std::size_t i) { return members[order[i]].d2; },
+                               [&](NodeId a, NodeId b) { return g_.binary(Op::Min, a, b); });
   }
-  if (signed_terms) t.sign = g_.binary(Op::Compare, plane(spec.index), zero);
-  return t;
+  if (!signed_terms) return {d2, kNoNode, spec.at};
+  return split(d2, plane(spec.index), spec.at);
 }
 
 Term ExprBuilder::distance(bool signed_terms, const Box3& box) {
@@ -289,13 +289,7 @@ std::vector<std::uint32_t> morton_order(const std::vector<Vec3>& points, const B
 
 Term join(Graph& g, const Term& a, const Term& b) {
   Term r{g.binary(Op::Min, a.d2, b.d2), kNoNode, a.at};
-  if (a.sign != kNoNode) {
-    // The sign of the nearer term: c1 = compare(a, b) + 1 is non-zero when b is at least as
-    // near, and then and(c1, sb) = sb, which or() returns unless it is 0 (only on the surface,
-    // where the distance is 0 and the sign does not matter).
-    const NodeId c1 = g.binary(Op::Add, g.binary(Op::Compare, a.d2, b.d2), g.constant(1.0f));
-    r.sign = g.binary(Op::Or, g.binary(Op::And, c1, b.sign), a.sign);
-  }
+  if (a.neg != kNoNode) r.neg = g.binary(Op::Min, a.neg, b.neg);
   return r;
 }
 

@@ -11,11 +11,15 @@
 
 namespace frep::convert_detail {
 
-// A squared distance term with the sign of its feature's pseudonormal (-1, 0 or +1; kNoNode when
-// unsigned), and a point for spatial ordering.
+// A squared distance term. Unsigned: `d2`. Signed: the term split by the sign of its feature's
+// pseudonormal test sigma (on the feature's own Voronoi region, sigma > 0 outside the solid):
+// `d2` is its squared distance where sigma >= 0 and huge elsewhere (it counts towards the nearest
+// outside feature, P), `neg` the same where sigma <= 0 (towards the nearest inside feature, N).
+// The distance is sqrt(P) where P <= N and -sqrt(N) elsewhere; deep inside or outside, intervals
+// then settle the sign, and pruning drops either side's features independently.
 struct Term {
   NodeId d2;
-  NodeId sign;
+  NodeId neg = kNoNode;
   Vec3 at;
 };
 
@@ -48,8 +52,8 @@ class ExprBuilder {
   // The whole distance: every feature's term, combined in a balanced tree over the features'
   // Morton order (gentle creases first join their region's cluster: plain min, one sign). Nodes
   // are created in the tree's post-order, so that the tape evaluates one subtree after another
-  // and few values are live at once. With `signed_terms`, the result carries the sign of the
-  // nearest feature's pseudonormal.
+  // and few values are live at once. With `signed_terms`, the result is split into P and N (see
+  // Term).
   Term distance(bool signed_terms, const Box3& box);
 
   // The plane value (p - anchor) . normal of a region: negative behind (inside) it.
@@ -62,6 +66,8 @@ class ExprBuilder {
   NodeId constant(double v) { return g_.constant(static_cast<float>(v)); }
   const Vec3& point(std::uint32_t i) const { return pts_[i]; }
   Graph& graph() { return g_; }
+  // The frame's coordinate nodes.
+  std::array<NodeId, 3> coords() const { return {x_, y_, z_}; }
 
  private:
   const std::array<NodeId, 3>& offset(std::uint32_t v);
@@ -69,6 +75,8 @@ class ExprBuilder {
   NodeId edge_term(const EdgeTerm& e);
   NodeId vertex_term(const VertexTerm& v);
   Term build(const TermSpec& spec, bool signed_terms, const Box3& box);
+  // A signed term from its squared distance and its sign test (see Term).
+  Term split(NodeId d2, NodeId sigma, const Vec3& at);
 
   Graph& g_;
   const std::vector<Vec3>& pts_;
@@ -80,8 +88,7 @@ class ExprBuilder {
   std::vector<std::vector<std::uint32_t>> cluster_;  // per region: the creases that take its sign
 };
 
-// Joins two terms: the minimum of the squared distances and, for signed terms, the sign of the
-// nearer (ties go to b).
+// Joins two terms: the minimum of the squared distances (of P and of N for signed terms).
 Term join(Graph& g, const Term& a, const Term& b);
 
 // Morton order of points within a box (for spatially balanced trees).

@@ -146,10 +146,31 @@ ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
   for (Vec3& p : points) p = (p - Vec3(frame.origin)) / s;
   Box3 box;
   for (const Vec3& p : points) box.add(p);
+  // Far from the mesh, intervals cannot tell which feature is nearest, so they cannot bound
+  // the distance away from 0 (the bounds search of frep mesh would see an unbounded field).
+  // The signed distance to a box holding the solid is below the solid's own everywhere (a
+  // subset's distance is never smaller, inside or out), and strictly below it for a slightly
+  // grown box: max(distance, box distance) is the distance, bit for bit, yet its interval far
+  // away starts at the box distance.
+  const auto with_box_bound = [&](ExprBuilder& b, NodeId root) {
+    const std::array<NodeId, 3> xyz = b.coords();
+    const double grow = 1e-3 * length(box.size()) + margin;
+    Expr outside(g, g.constant(0.0f)), inside(g, kNoNode);
+    for (int k = 0; k < 3; ++k) {
+      const Expr q = abs(Expr(g, xyz[k]) - static_cast<float>(box.center()[k])) -
+                     static_cast<float>(0.5 * box.size()[k] + grow);
+      outside = outside + square(max(q, 0.0f));
+      inside = k == 0 ? q : max(inside, q);
+    }
+    return max(Expr(g, root), sqrt(outside) + min(inside, 0.0f)).id();
+  };
   if (o.sign == SignMode::Pseudonormal) {
     ExprBuilder b(g, points, f, margin, frame);
     const Term root = b.distance(true, box);
-    r.model.root = g.binary(Op::Mul, root.sign, g.unary(Op::Sqrt, root.d2));
+    // sqrt(P) where P <= N, else -sqrt(N): compare(P, N) > 0 exactly where the nearest feature is
+    // an inside one.
+    const Expr inside = max(compare(Expr(g, root.d2), Expr(g, root.neg)), 0.0f);
+    r.model.root = with_box_bound(b, if_nonzero_else(inside, -sqrt(Expr(g, root.neg)), sqrt(Expr(g, root.d2))).id());
   } else {
     // Unsigned terms only: vertex terms exist to settle signs, which the tetrahedra do here.
     Features uf = f;
@@ -160,7 +181,7 @@ ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
     const Expr dist(g, g.unary(Op::Sqrt, root.d2));
     // compare(M, 0) + 1 is non-zero exactly where M >= 0: inside.
     const Expr inside = compare(Expr(g, inside_measure(b, m, uf, tz)), 0.0f) + 1.0f;
-    r.model.root = if_nonzero_else(inside, -dist, dist).id();
+    r.model.root = with_box_bound(b, if_nonzero_else(inside, -dist, dist).id());
   }
   if (s != 1.0) r.model.root = g.binary(Op::Mul, r.model.root, g.constant(static_cast<float>(s)));
   st.nodes = reachable_nodes(g, r.model.root).size();

@@ -1,8 +1,7 @@
-// PointCloudEvaluator: the points are sorted along a Morton curve and cut into chunks of
-// consecutive points (spatially compact when the points are dense). A chunk whose box is small
-// simplifies the tape once (scalar interval evaluation: a few bytes per instruction, unlike the
-// 16-box evaluator's), and its sub-chunks again while the tape is still large; the points are
-// then evaluated with SIMD batches. For sparse points a batch on the full tape is cheapest.
+// PointCloudEvaluator: the points are sorted along a Morton curve and split in halves
+// recursively; each group whose box is small simplifies its parent's tape (scalar interval
+// evaluation: a few bytes per instruction, unlike the 16-box evaluator's), and groups of 64
+// points are evaluated with SIMD batches. For sparse points a batch on the full tape is cheapest.
 #include "frep/eval/point_cloud.hpp"
 
 #include <algorithm>
@@ -16,8 +15,7 @@
 namespace frep {
 namespace {
 
-constexpr std::size_t kChunk = 4096;     // points per first-level chunk
-constexpr std::size_t kSubChunk = 256;   // points per second-level chunk
+constexpr std::size_t kLeafPoints = 64;  // groups this small are evaluated, not split
 
 std::uint64_t spread(std::uint64_t v) {  // 21 bits -> every third of 63
   v &= 0x1fffff;
@@ -35,7 +33,7 @@ struct PointCloudEvaluator::Worker {
   IntervalEvaluator intervals;
   BatchEvaluator batch;
   GradEvaluator grad;
-  Tape chunk_tape, sub_tape;
+  std::vector<Tape> tapes;  // per depth of the halving
 };
 
 PointCloudEvaluator::PointCloudEvaluator(PointCloudOptions options) : options_(options) {
@@ -83,38 +81,59 @@ void PointCloudEvaluator::run(const Tape& tape, const float* xs, const float* ys
   std::vector<Out> res(n);
   for (std::size_t i = 0; i < n; ++i) px[i] = xs[keys[i].second], py[i] = ys[keys[i].second], pz[i] = zs[keys[i].second];
 
-  // Simplifies `t` for the box of points [b, e) into `dst`; returns the tape to use: `t` itself
-  // when the box is unknown (a NaN coordinate) or large (sparse points: a box covering much of
-  // the cloud prunes little, and the pass would cost more than evaluating on the full tape).
+  // Depth first over halves of the Morton order: a group's bounding box simplifies its parent's
+  // tape (SSA only: register code is built where points get evaluated) until the group is small
+  // or the tape is; then SIMD batches. Groups whose box is a large part of the cloud's are passed
+  // through unsimplified (sparse points: a pass over a big tape would cost more than it saves).
   const double cloud = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                                  (hi[2] - lo[2]) * (hi[2] - lo[2]));
-  auto narrow = [&](Worker& w, const Tape& t, std::size_t b, std::size_t e, Tape& dst) -> const Tape& {
-    if (t.size() < options_.min_tape || t.choice_count() == 0) return t;
+  auto descend = [&](auto&& self, Worker& w, const Tape& t, std::size_t b, std::size_t e, std::size_t depth) -> void {
+    const bool small = e - b <= kLeafPoints || t.size() < options_.min_tape || t.choice_count() == 0;
+    if (small && !t.code().empty()) {
+      for (std::size_t c = b; c < e; c += kLeafPoints) leaf(w, t, &px[c], &py[c], &pz[c], &res[c], std::min(e, c + kLeafPoints) - c);
+      return;
+    }
     float l[3] = {px[b], py[b], pz[b]}, h[3] = {px[b], py[b], pz[b]};
+    bool known = true;
     for (std::size_t i = b; i < e; ++i) {
       const float v[3] = {px[i], py[i], pz[i]};
       for (int k = 0; k < 3; ++k) {
-        if (!std::isfinite(v[k])) return t;
+        known &= std::isfinite(v[k]);
         l[k] = std::min(l[k], v[k]);
         h[k] = std::max(h[k], v[k]);
       }
     }
     const double diag = std::sqrt(double(h[0] - l[0]) * (h[0] - l[0]) + double(h[1] - l[1]) * (h[1] - l[1]) +
                                   double(h[2] - l[2]) * (h[2] - l[2]));
-    if (diag > options_.max_box * cloud) return t;
-    w.intervals.simplify(t, {l[0], h[0]}, {l[1], h[1]}, {l[2], h[2]}, dst);
-    return dst;
+    const Tape* next = &t;
+    // Simplify for a small box; and always before evaluating a tape that has no register code
+    // (an unknown box, with a NaN coordinate, simplifies to the same instructions).
+    if ((known && diag <= options_.max_box * cloud) || (small && t.code().empty())) {
+      Tape& dst = w.tapes[depth];
+      const Interval nan = Interval::unknown();
+      if (known) w.intervals.eval(t, {l[0], h[0]}, {l[1], h[1]}, {l[2], h[2]});
+      else w.intervals.eval(t, nan, nan, nan);
+      t.simplify(w.intervals.values(), w.intervals.choices(), dst, /*registers=*/small);
+      next = &dst;
+    }
+    if (small) {
+      for (std::size_t c = b; c < e; c += kLeafPoints)
+        leaf(w, *next, &px[c], &py[c], &pz[c], &res[c], std::min(e, c + kLeafPoints) - c);
+      return;
+    }
+    const std::size_t mid = b + (e - b) / 2;
+    self(self, w, *next, b, mid, depth + 1);
+    self(self, w, *next, mid, e, depth + 1);
   };
-  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  // Parallel over contiguous chunks; each worker keeps a tape per depth (depth <= log2 n).
+  for (auto& w : workers_)
+    if (w->tapes.size() < 64) w->tapes.resize(64);
+  const std::size_t chunks = std::min<std::size_t>(static_cast<std::size_t>(4 * pool_->size()),
+                                                   (n + kLeafPoints - 1) / kLeafPoints);
   pool_->parallel_for(static_cast<int>(chunks), [&](int wi, int ci) {
     Worker& w = *workers_[static_cast<std::size_t>(wi)];
-    const std::size_t b = static_cast<std::size_t>(ci) * kChunk, e = std::min(n, b + kChunk);
-    const Tape& ct = narrow(w, tape, b, e, w.chunk_tape);
-    for (std::size_t sb = b; sb < e; sb += kSubChunk) {
-      const std::size_t se = std::min(e, sb + kSubChunk);
-      const Tape& st = narrow(w, ct, sb, se, w.sub_tape);
-      leaf(w, st, &px[sb], &py[sb], &pz[sb], &res[sb], se - sb);
-    }
+    const std::size_t b = n * static_cast<std::size_t>(ci) / chunks, e = n * (static_cast<std::size_t>(ci) + 1) / chunks;
+    if (b < e) descend(descend, w, tape, b, e, 0);
   });
   for (std::size_t i = 0; i < n; ++i) out[keys[i].second] = res[i];
 }

@@ -1,3 +1,4 @@
+// Image files: PNG through stb's writer, and binary PGM.
 #include "frep/render/image.hpp"
 
 // stb's PNG writer is compiled in here, with internal linkage, so the library needs no stb
@@ -34,13 +35,24 @@ void check_image_path(const std::string& path) {
     throw InputError(path, 0, "cannot write: directory " + parent.string() + " does not exist");
 }
 
+void check_image_path(const std::string& path, int channels) {
+  check_image_path(path);
+  if (channels != 1 && ends_with(path, ".pgm"))
+    throw InputError(path, 0, "a .pgm file holds grayscale only: use a .png file name for this colour image");
+}
+
 void save_image(const std::string& path, const Image& image) {
-  FREP_ASSERT(image.pixels.size() == static_cast<std::size_t>(image.width) * image.height, "image size");
+  FREP_ASSERT(image.channels == 1 || image.channels == 3, "image channels");
+  FREP_ASSERT(image.pixels.size() == static_cast<std::size_t>(image.width) * image.height * image.channels,
+              "image size");
   std::string bytes;
   if (ends_with(path, ".png")) {
-    if (!stbi_write_png_to_func(append, &bytes, image.width, image.height, 1, image.pixels.data(), image.width))
+    if (!stbi_write_png_to_func(append, &bytes, image.width, image.height, image.channels, image.pixels.data(),
+                                image.width * image.channels))
       throw InputError(path, 0, "PNG encoding failed");
   } else if (ends_with(path, ".pgm")) {
+    if (image.channels != 1)
+      throw InputError(path, 0, "a .pgm file holds grayscale only: use a .png file name for this colour image");
     bytes = "P5\n" + std::to_string(image.width) + " " + std::to_string(image.height) + "\n255\n";
     bytes.append(reinterpret_cast<const char*>(image.pixels.data()), image.pixels.size());
   } else {

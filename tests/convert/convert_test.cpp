@@ -152,6 +152,22 @@ TEST(Convert, ExpressionDepthIsLogarithmic) {
   EXPECT_LT(deepest, 15 + 4 * 16) << "depth " << deepest;
 }
 
+// Intervals settle the sign away from the surface: a box deep inside is entirely negative, one
+// outside entirely positive (what the mesher's and renderer's pruning needs), and each bounds the
+// exact distance there.
+TEST(Convert, IntervalsSettleTheSignInsideAndOutside) {
+  const TriMesh m = test::make_sphere(3, 1.0);  // 1280 triangles, inradius about 0.99
+  const ConvertResult r = convert_mesh(m);
+  const Tape tape = Tape::compile(*r.model.graph, r.model.root);
+  IntervalEvaluator ie;
+  const Interval inside = ie.eval(tape, {-0.1f, 0.1f}, {-0.1f, 0.1f}, {0.2f, 0.3f});
+  EXPECT_LT(inside.hi, -0.5f) << inside.lo << " " << inside.hi;
+  EXPECT_GE(inside.hi, -0.81f);  // the distance at (0.1, 0.1, 0.3) is above -0.8
+  const Interval outside = ie.eval(tape, {1.5f, 1.7f}, {-0.1f, 0.1f}, {-0.1f, 0.1f});
+  EXPECT_GT(outside.lo, 0.3f) << outside.lo << " " << outside.hi;
+  EXPECT_LE(outside.lo, 0.51f);
+}
+
 // Flat CAD parts shrink: coplanar neighbours share a plane, edges inside flat regions vanish.
 TEST(Convert, FlatFacesShrinkTheExpression) {
   const ConvertResult coarse = convert_mesh(test::make_fine_box(1));

@@ -10,9 +10,10 @@
 // tree that follows the mesh's spatial order, so interval pruning drops whole far subtrees.
 //
 // The sign comes from one of two methods:
-//   Pseudonormal: every term carries the sign of its feature's angle-weighted pseudonormal
-//     (Baerentzen and Aanaes 2005) and the tree keeps the sign of the nearest term. Exact for
-//     closed, consistently oriented meshes; no external program.
+//   Pseudonormal: every term is tested by its feature's angle-weighted pseudonormal (Baerentzen
+//     and Aanaes 2005) and joins one of two minima, P (the test says outside) or N (inside); the
+//     value is sqrt(P) where P <= N, else -sqrt(N). Exact for closed, consistently oriented
+//     meshes; no external program; intervals settle the sign away from the surface.
 //   Tetrahedra: TetGen tetrahedralizes the solid preserving its surface (the separate `tetgen`
 //     program, run as a child process: it is AGPL and crashes on bad input); the value is negated
 //     inside the union of the tetrahedra.
@@ -65,5 +66,10 @@ struct ConvertResult {
 // oriented, self-intersecting...) is refused with InputError carrying the check's summary.
 // TetGen failures (missing program, crash, timeout, changed surface) are InputErrors too.
 ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& options = {});
+
+// What every command that takes an expression accepts: an expression file (.vm, .rhai, .frep),
+// or a mesh file (.stl, .obj, .ply, .off, told apart by extension), read and converted with
+// `options`. `stats`, when given, receives the conversion's figures (untouched for expressions).
+Model load_field(const std::string& path, const ConvertOptions& options = {}, ConvertStats* stats = nullptr);
 
 }  // namespace frep

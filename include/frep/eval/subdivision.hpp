@@ -72,6 +72,9 @@ struct SubdivisionOptions {
 // and optionally
 //   bool skip(int worker, const IndexBox& box)
 //       before a box is evaluated; return true to drop it (e.g. occluded in a 3D render).
+//   static constexpr bool leaf_tape() { return false; }
+//       leaf() does not use its tape: the last level is then not simplified, and leaf() gets
+//       the parent's tape (valid in the box, possibly without register code).
 // Visitor calls for different boxes may run concurrently on different workers.
 class Subdivider {
  public:
@@ -135,8 +138,11 @@ void Subdivider::split(Worker& w, const Tape& t, const SampleGrid& grid, int lev
     for (int k = 0; k < count; ++k)
       if (!v.settled(worker, boxes[k], w.boxes.result(k))) open |= 1u << k;
     if (open) {
-      // Nothing to prune without choices, unless the children need register code.
-      const bool reuse = t.choice_count() == 0 && (!last || !t.code().empty());
+      // Nothing to prune without choices, unless the children need register code; nothing to
+      // simplify for leaves that do not use their tape.
+      bool leaf_tape = true;
+      if constexpr (requires { Visitor::leaf_tape(); }) leaf_tape = Visitor::leaf_tape();
+      const bool reuse = (t.choice_count() == 0 && (!last || !t.code().empty())) || (last && !leaf_tape);
       Tape* dst = outs(group);
       if (!reuse) w.boxes.simplify(t, open, dst, last);
       for (std::uint32_t bits = open; bits; bits &= bits - 1) {

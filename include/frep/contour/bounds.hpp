@@ -1,0 +1,29 @@
+// Where can an expression be negative? A conservative bounding box of its inside, found by
+// interval arithmetic alone: an octree of interval tests over a large cube, repeated on the box
+// it finds until the box stops shrinking. Used by the mesher when no bounds are given.
+#pragma once
+
+#include "frep/eval/tape.hpp"
+#include "frep/math/vec.hpp"
+
+namespace frep {
+
+struct BoundsSearchOptions {
+  double limit = 1e4;   // search the cube [-limit, limit]^3
+  int cells = 64;       // cells per axis of each round's octree (a power of 4 times 1, 4 or 16 works best)
+  int max_rounds = 12;  // rounds of zooming in on the box found
+  double converged = 0.01;  // stop once no side moves by more than this fraction of the extent
+  int threads = 0;      // 0 = all cores
+};
+
+struct BoundsResult {
+  Box3 box;          // contains every point where the expression may be < 0 (or NaN boxes)
+  bool empty = false;  // the expression is >= 0 everywhere in the search cube: no box
+  int rounds = 0;
+};
+
+// Throws InputError if the inside may reach the search cube's boundary (an unbounded field: a
+// half-space, a 2D expression extruded along z, a periodic lattice...), asking for explicit bounds.
+BoundsResult find_bounds(const Tape& tape, const BoundsSearchOptions& options = {});
+
+}  // namespace frep

@@ -1,0 +1,70 @@
+// Grid setup and the box that closes the field at the grid's boundary.
+#include "contour/mesh_grid.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "frep/error.hpp"
+
+namespace frep::contour {
+
+MeshGrid make_grid(const Box3& region, double h, int margin) {
+  MeshGrid g;
+  g.h = h;
+  for (int a = 0; a < 3; ++a) {
+    const double ext = region.hi[a] - region.lo[a];
+    const double cells = std::ceil(ext / h * (1 - 1e-12));
+    if (!(cells <= kMaxMeshResolution)) {
+      char msg[300];
+      std::snprintf(msg, sizeof msg,
+                    "cells of %g need %.0f cells along %c, more than the limit of %d: use a larger cell or a "
+                    "smaller region",
+                    h, cells, "xyz"[a], kMaxMeshResolution);
+      throw InputError("", 0, msg);
+    }
+    const int n = std::max(1, static_cast<int>(cells)) + 2 * margin;
+    g.n[static_cast<std::size_t>(a)] = n;
+    const double lo = 0.5 * (region.lo[a] + region.hi[a]) - 0.5 * n * h;
+    auto& c = g.grid.coords[static_cast<std::size_t>(a)];
+    c.resize(static_cast<std::size_t>(n) + 1);
+    for (int i = 0; i <= n; ++i) c[static_cast<std::size_t>(i)] = static_cast<float>(lo + i * h);
+    // Corners must be distinct in f32, with room for crossings between them.
+    for (int i = 0; i < n; ++i) {
+      const float a0 = c[static_cast<std::size_t>(i)], a1 = c[static_cast<std::size_t>(i) + 1];
+      if (!std::isfinite(a0) || !std::isfinite(a1) || !(a1 > a0) || (a1 - a0) < 64 * (std::nextafter(a0, INFINITY) - a0)) {
+        char msg[300];
+        std::snprintf(msg, sizeof msg,
+                      "cells of %g at coordinates near %g are too fine for 32-bit floats: use a larger cell",
+                      h, static_cast<double>(a0));
+        throw InputError("", 0, msg);
+      }
+    }
+    g.box.lo[a] = c.front();
+    g.box.hi[a] = c.back();
+  }
+  g.grid.cells = true;
+  return g;
+}
+
+Tape close_at_box(const Tape& tape, const Box3& box) {
+  std::vector<SsaInstr> s(tape.ssa().begin(), tape.ssa().end());
+  const auto root = static_cast<std::uint32_t>(s.size() - 1);
+  auto push = [&](Op op, std::uint32_t a = 0, std::uint32_t b = 0, float v = 0) {
+    s.push_back(SsaInstr{op, a, b, v});
+    return static_cast<std::uint32_t>(s.size() - 1);
+  };
+  std::uint32_t d = 0;
+  for (int a = 0; a < 3; ++a) {
+    const std::uint32_t v = push(static_cast<Op>(static_cast<int>(Op::VarX) + a));
+    const std::uint32_t lo = push(Op::Const, 0, 0, static_cast<float>(box.lo[a]));
+    const std::uint32_t hi = push(Op::Const, 0, 0, static_cast<float>(box.hi[a]));
+    const std::uint32_t m = push(Op::Max, push(Op::Sub, lo, v), push(Op::Sub, v, hi));
+    d = a == 0 ? m : push(Op::Max, d, m);
+  }
+  push(Op::Max, root, d);
+  return Tape::from_ssa(s);
+}
+
+}  // namespace frep::contour

@@ -1,0 +1,223 @@
+// The mesher: options checks, bounds, the grid, the subdivision run over leaves (in parallel,
+// per-worker records), and the assembly in leaf order.
+#include "frep/contour/mesher.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+#include <string>
+
+#include "contour/assemble.hpp"
+#include "contour/leaf.hpp"
+#include "contour/mesh_grid.hpp"
+#include "frep/error.hpp"
+#include "frep/eval/subdivision.hpp"
+
+namespace frep {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+[[noreturn]] void bad_option(const std::string& msg) { throw InputError("", 0, msg); }
+
+void check_options(const MeshOptions& o) {
+  if (o.method != MeshMethod::DualContouring && o.method != MeshMethod::Snap) bad_option("unknown meshing method");
+  if (!(o.cell_size >= 0) || !std::isfinite(o.cell_size)) bad_option("the cell size must be a finite number > 0");
+  if (o.cell_size == 0 && (o.resolution < 1 || o.resolution > kMaxMeshResolution))
+    bad_option("the resolution must be between 1 and " + std::to_string(kMaxMeshResolution) + " cells, got " +
+               std::to_string(o.resolution));
+  if (!o.bounds.empty()) {
+    for (int a = 0; a < 3; ++a) {
+      if (!std::isfinite(o.bounds.lo[a]) || !std::isfinite(o.bounds.hi[a])) bad_option("the bounds must be finite");
+      if (!(o.bounds.lo[a] < o.bounds.hi[a]))
+        bad_option(std::string("the bounds are empty along ") + "xyz"[a] + " (need x0 < x1, y0 < y1, z0 < z1)");
+    }
+  }
+  if (!o.known_bounds.empty())
+    for (int a = 0; a < 3; ++a)
+      if (!std::isfinite(o.known_bounds.lo[a]) || !std::isfinite(o.known_bounds.hi[a]))
+        bad_option("the known bounds must be finite");
+  if (!(o.edge_tolerance > 0) || !(o.edge_tolerance < 1)) bad_option("the edge tolerance must be in (0, 1)");
+  if (o.edge_iterations < 1 || o.edge_iterations > 64) bad_option("edge iterations must be between 1 and 64");
+  if (!(o.qef_threshold >= 0) || !(o.qef_threshold <= 1)) bad_option("the QEF threshold must be in [0, 1]");
+  if (o.snap.iterations < 0 || o.snap.iterations > 100) bad_option("snap iterations must be between 0 and 100");
+  if (!(o.snap.difference_step > 0) || !(o.snap.difference_step <= 0.5))
+    bad_option("the central-difference step must be in (0, 0.5] (a fraction of a cell)");
+  for (std::size_t i = 0; i < o.tiles.size(); ++i) {
+    if (o.tiles[i] < 1) bad_option("tile sizes must be positive");
+    if (i > 0 && o.tiles[i - 1] % o.tiles[i] != 0) bad_option("each tile size must be a multiple of the next");
+  }
+  if (!o.tiles.empty() && o.tiles.back() > 32) bad_option("the leaf tile (the last) must be at most 32 cells");
+}
+
+// Leaves of 8 cells, levels growing by 4 until the top level splits the grid into a few boxes.
+std::vector<int> default_tiles(int cells) {
+  std::vector<int> t{8};
+  while (t.front() * 4 < cells) t.insert(t.begin(), t.front() * 4);
+  return t;
+}
+
+}  // namespace
+
+struct Mesher::Impl {
+  MeshOptions o;
+  MeshStats stats;
+  std::unique_ptr<Subdivider> sub;
+};
+
+Mesher::Mesher(MeshOptions options) : impl_(std::make_unique<Impl>()) {
+  check_options(options);
+  impl_->o = std::move(options);
+}
+
+Mesher::~Mesher() = default;
+
+const MeshStats& Mesher::stats() const { return impl_->stats; }
+const MeshOptions& Mesher::options() const { return impl_->o; }
+
+TriMesh Mesher::mesh(const Tape& tape) {
+  using namespace contour;
+  const MeshOptions& o = impl_->o;
+  MeshStats& st = impl_->stats;
+  st = MeshStats{};
+  FREP_ASSERT(tape.size() > 0, "empty tape");
+  std::mutex progress_mutex;
+  auto report = [&](const char* phase, double fraction) {
+    if (!o.progress) return;
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    o.progress(MeshProgress{phase, fraction});
+  };
+  auto cancelled = [&] { return o.cancel && o.cancel->load(std::memory_order_relaxed); };
+
+  // The region and the grid.
+  auto t0 = Clock::now();
+  Box3 region = o.bounds;
+  int margin = 0;
+  if (region.empty() && !o.known_bounds.empty()) {
+    st.bounds_known = true;
+    st.found = region = o.known_bounds;
+    margin = 1;
+  } else if (region.empty()) {
+    report("bounds", 0);
+    BoundsSearchOptions bo = o.bounds_search;
+    bo.threads = o.threads;
+    const BoundsResult r = find_bounds(tape, bo);
+    st.bounds_found = true;
+    st.search_rounds = r.rounds;
+    st.seconds_bounds = seconds_since(t0);
+    if (r.empty) return TriMesh{};
+    st.found = r.box;
+    region = r.box;
+    margin = 1;
+  }
+  double longest = 0;
+  for (int a = 0; a < 3; ++a) longest = std::max(longest, region.hi[a] - region.lo[a]);
+  const double h = o.cell_size > 0 ? o.cell_size : longest / o.resolution;
+  if (!(h > 0) || !std::isfinite(h)) throw InputError("", 0, "the region to mesh has no extent");
+  const MeshGrid grid = make_grid(region, h, margin);
+  st.bounds = grid.box;
+  st.cells = grid.n;
+  st.cell_size = h;
+  // Closed at the given bounds (inside the grid, which covers them with whole cells), or at the
+  // grid's box when the bounds were found (the shape is inside with a cell to spare).
+  Box3 cut = margin ? grid.box : region;
+  for (int a = 0; a < 3; ++a) {
+    // As f32, not beyond the grid (so that the grid's boundary corners stay outside).
+    cut.lo[a] = std::max(round_f32(cut.lo[a]), grid.box.lo[a]);
+    cut.hi[a] = std::min(round_f32(cut.hi[a]), grid.box.hi[a]);
+  }
+  const Tape closed = close_at_box(tape, cut);
+
+  // Subdivision and leaves.
+  auto t1 = Clock::now();
+  const std::vector<int> tiles = o.tiles.empty() ? default_tiles(*std::max_element(grid.n.begin(), grid.n.end())) : o.tiles;
+  if (!impl_->sub || impl_->sub->options().tiles != tiles) {
+    SubdivisionOptions so;
+    so.tiles = tiles;
+    so.threads = o.threads;
+    impl_->sub.reset();  // one pool at a time
+    impl_->sub = std::make_unique<Subdivider>(so);
+  }
+  Subdivider& sub = *impl_->sub;
+  const int leaf_size = tiles.back();
+  const int workers = sub.workers();
+  std::vector<std::unique_ptr<LeafMesher>> leafers;
+  std::vector<std::vector<std::unique_ptr<LeafRecord>>> records(static_cast<std::size_t>(workers));
+  std::vector<std::unique_ptr<LeafRecord>> spare(static_cast<std::size_t>(workers));
+  for (int i = 0; i < workers; ++i) {
+    leafers.push_back(std::make_unique<LeafMesher>(grid, cut, o));
+    spare[static_cast<std::size_t>(i)] = std::make_unique<LeafRecord>();
+  }
+  const double total = static_cast<double>(grid.n[0]) * grid.n[1] * grid.n[2];
+  std::atomic<std::uint64_t> done{0};
+  std::atomic<std::int64_t> last_report{0};
+  const auto start = Clock::now();
+
+  struct Visitor {
+    std::function<void(const IndexBox&)> count;
+    std::function<void(int, const Tape&, const IndexBox&)> on_leaf;
+    bool settled(int, const IndexBox& b, Interval v) {
+      if (v.is_unknown()) return false;
+      if (v.hi < 0 || v.lo >= 0) return count(b), true;  // full or empty
+      return false;
+    }
+    void leaf(int wi, const Tape& t, const IndexBox& b) { on_leaf(wi, t, b); }
+  };
+  Visitor visitor;
+  visitor.count = [&](const IndexBox& b) {
+    if (o.progress) done.fetch_add(static_cast<std::uint64_t>(b.count()), std::memory_order_relaxed);
+  };
+  visitor.on_leaf = [&](int wi, const Tape& t, const IndexBox& b) {
+    if (cancelled()) throw MeshCancelled();
+    auto& rec = spare[static_cast<std::size_t>(wi)];
+    if (leafers[static_cast<std::size_t>(wi)]->process(t, b, *rec)) {
+      rec->key = leaf_key(b.lo, leaf_size);
+      records[static_cast<std::size_t>(wi)].push_back(std::move(rec));
+      rec = std::make_unique<LeafRecord>();
+    }
+    if (o.progress) {
+      const std::uint64_t d = done.fetch_add(static_cast<std::uint64_t>(b.count()), std::memory_order_relaxed) +
+                              static_cast<std::uint64_t>(b.count());
+      const std::int64_t now = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start).count();
+      std::int64_t last = last_report.load(std::memory_order_relaxed);
+      if (now - last >= 200 && last_report.compare_exchange_strong(last, now)) report("cells", static_cast<double>(d) / total);
+    }
+  };
+  sub.run(closed, grid.grid, visitor);
+  if (cancelled()) throw MeshCancelled();
+  report("cells", 1);
+  st.seconds_cells = seconds_since(t1);
+
+  // Assembly in leaf order.
+  auto t2 = Clock::now();
+  std::vector<LeafRecord*> leaves;
+  for (auto& per_worker : records)
+    for (auto& r : per_worker) leaves.push_back(r.get());
+  std::sort(leaves.begin(), leaves.end(), [](const LeafRecord* a, const LeafRecord* b) { return a->key < b->key; });
+  TriMesh mesh = assemble(leaves, grid, leaf_size, sub.pool(), &st.unresolved);
+  st.seconds_assembly = seconds_since(t2);
+  st.leaves = leaves.size();
+  for (const LeafRecord* r : leaves) {
+    st.surface_cells += r->cells.size();
+    st.capped |= r->touches_cap;
+  }
+  st.vertices = mesh.vertices.size();
+  st.triangles = mesh.triangles.size();
+  return mesh;
+}
+
+TriMesh mesh_expression(const Tape& tape, const MeshOptions& options, MeshStats* stats) {
+  Mesher m(options);
+  TriMesh mesh = m.mesh(tape);
+  if (stats) *stats = m.stats();
+  return mesh;
+}
+
+TriMesh mesh_expression(Expr e, const MeshOptions& options, MeshStats* stats) {
+  return mesh_expression(Tape::compile(e.graph(), e.id()), options, stats);
+}
+
+}  // namespace frep

@@ -1,0 +1,381 @@
+// The 3D renderer: a visitor of the subdivision driver that searches pixel columns front to
+// back, and the brute-force reference that searches every column on the full tape.
+//
+// Per pixel, the result is defined by the samples alone: the first depth sample s with f < 0,
+// then bisection between samples s - 1 and s (or the front of the volume if s = 0). The pruned
+// search reaches exactly that:
+// - A column's samples s - 1 and s lie in one box (the grid has cells along every axis, so a box
+//   covers its samples lo..hi inclusive and the space between them). That box is not settled
+//   (f(s - 1) is not < 0, f(s) is) and is not skipped (skipping needs an inside sample at or
+//   before its lo <= s - 1), so its leaf finds the hit and refines it on a tape valid there.
+// - Leaves and filled boxes lower `best`, the first inside sample known per pixel; boxes whose
+//   pixels all have best <= lo cannot contain a nearer hit and are skipped. Leaves do not search
+//   their first sample (unless it is the front): the box in front holds the segment ending there.
+// - Results are written under a lock per image row, keyed by 2 s (refined) so the nearest wins;
+//   a key is produced by exactly one box, so the image is the same for any thread count.
+#include "frep/render/render3d.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <climits>
+#include <cmath>
+#include <mutex>
+
+#include "frep/error.hpp"
+#include "frep/eval/evaluators.hpp"
+#include "frep/eval/subdivision.hpp"
+#include "view_tape.hpp"
+
+namespace frep {
+namespace {
+
+// Halving from the largest power of two below the volume's longest side (in voxels) down to 4:
+// 8 children per split, so that large boxes (which prune little, and in rotated views least)
+// are evaluated as few at a time as possible on the big tapes.
+std::vector<int> automatic_tiles(const Camera& cam) {
+  const int longest = std::max({cam.width, cam.height, cam.depth});
+  int top = 4;
+  while (top * 2 < longest) top *= 2;
+  std::vector<int> tiles;
+  for (int t = top; t >= 4; t /= 2) tiles.push_back(t);
+  return tiles;
+}
+
+void check_options(const Render3DOptions& o) {
+  if (o.size < 1 || o.size > 16384)
+    throw InputError("", 0, "image size must be between 1 and 16384, got " + std::to_string(o.size));
+  if (o.refine_steps < 0 || o.refine_steps > 64)
+    throw InputError("", 0, "refine steps must be between 0 and 64, got " + std::to_string(o.refine_steps));
+  for (std::size_t i = 0; i < o.tiles.size(); ++i) {
+    if (o.tiles[i] < 1) throw InputError("", 0, "tile sizes must be positive");
+    if (i > 0 && o.tiles[i] > o.tiles[i - 1]) throw InputError("", 0, "tile sizes must decrease");
+  }
+}
+
+Camera camera_for(const Render3DOptions& o) {
+  double yaw = 0, pitch = 0;
+  view_angles(o.view, yaw, pitch);
+  return make_camera(o.bounds, yaw + o.yaw, pitch + o.pitch, o.size, o.depth_steps, o.z_up);
+}
+
+const Vec3f kFacingViewer{0, 0, 1};
+
+Vec3f unit_normal(const Grad& g) {
+  const double len = std::sqrt(static_cast<double>(g.dx) * g.dx + static_cast<double>(g.dy) * g.dy +
+                               static_cast<double>(g.dz) * g.dz);
+  if (!(len > 0) || !std::isfinite(len)) return kFacingViewer;
+  return {static_cast<float>(g.dx / len), static_cast<float>(g.dy / len), static_cast<float>(g.dz / len)};
+}
+
+// Scratch for locating surfaces: bisection in lockstep over many columns, a final linear
+// interpolation, then gradients.
+struct Refiner {
+  BatchEvaluator batch;
+  GradEvaluator grad;
+  std::vector<float> us, vs, ws, out, a, b, fa, fb;
+  std::vector<Grad> grads;
+
+  void resize(std::size_t n) {
+    if (us.size() >= n) return;
+    for (auto* v : {&us, &vs, &ws, &out, &a, &b, &fa, &fb}) v->resize(n);
+    grads.resize(n);
+  }
+  // For i < n: column (us[i], vs[i]) is not inside at w = a[i] (value unknown) and inside at
+  // w = b[i] with value fb[i] < 0. Bisects `steps` times; then, if the value at the outside end
+  // is known, interpolates linearly between the ends, else takes the midpoint: either way within
+  // (the sample step) / 2^(steps + 1) of a crossing. Leaves the point in ws[i], its normal in
+  // normals[i]. Every operation is per column, so results do not depend on the batch.
+  void locate(const Tape& t, std::size_t n, int steps, Vec3f* normals) {
+    const float unknown = std::numeric_limits<float>::quiet_NaN();
+    std::fill(fa.begin(), fa.begin() + static_cast<std::ptrdiff_t>(n), unknown);
+    for (int it = 0; it < steps; ++it) {
+      for (std::size_t i = 0; i < n; ++i) ws[i] = 0.5f * (a[i] + b[i]);
+      batch.eval(t, us.data(), vs.data(), ws.data(), out.data(), n);
+      for (std::size_t i = 0; i < n; ++i) {
+        if (out[i] < 0) {
+          b[i] = ws[i];
+          fb[i] = out[i];
+        } else {
+          a[i] = ws[i];
+          fa[i] = out[i];
+        }
+      }
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const float d = fa[i] - fb[i];
+      if (std::isfinite(fa[i]) && std::isfinite(d) && d > 0)
+        ws[i] = std::clamp(a[i] + (b[i] - a[i]) * (fa[i] / d), std::min(a[i], b[i]), std::max(a[i], b[i]));
+      else
+        ws[i] = 0.5f * (a[i] + b[i]);
+    }
+    grad.eval(t, us.data(), vs.data(), ws.data(), grads.data(), n);
+    for (std::size_t i = 0; i < n; ++i) normals[i] = unit_normal(grads[i]);
+  }
+};
+
+void atomic_min(int& slot, int v) {
+  std::atomic_ref<int> a(slot);
+  int cur = a.load(std::memory_order_relaxed);
+  while (v < cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
+  }
+}
+int atomic_load(int& slot) { return std::atomic_ref<int>(slot).load(std::memory_order_relaxed); }
+
+constexpr int kNone = INT_MAX;
+
+constexpr std::uint32_t kNoKey = UINT32_MAX;
+
+}  // namespace
+
+struct Renderer3D::Worker {
+  Refiner refiner;
+  std::vector<std::uint32_t> active, next;  // pixels still searched in a leaf
+  std::vector<int> limit;                   // per active pixel: the last useful sample
+  std::vector<std::uint32_t> hit_pixel;     // hits to refine: pixel and sample
+  std::vector<int> hit_sample;
+  std::vector<float> hit_value;
+  std::vector<Vec3f> normals;
+};
+
+// Everything one render shares between workers.
+struct Renderer3D::State {
+  int width = 0;
+  std::vector<float> uc, vc, ws;  // pixel centers and depth samples
+  std::vector<int> best;          // per pixel: first inside sample known (kNone)
+  std::vector<std::uint32_t> key; // per pixel: key of the written result (2 s, or 0 at the front)
+  std::vector<float> depth;       // per pixel: the written result
+  std::vector<Vec3f> normal;
+  std::unique_ptr<std::mutex[]> row_locks;
+
+  void write(std::uint32_t p, std::uint32_t k, float w, Vec3f n) {
+    std::lock_guard<std::mutex> lock(row_locks[p / static_cast<std::uint32_t>(width)]);
+    if (k >= key[p]) return;
+    key[p] = k;
+    depth[p] = w;
+    normal[p] = n;
+  }
+};
+
+Renderer3D::Renderer3D(Render3DOptions options) : options_(std::move(options)) {
+  check_options(options_);
+  camera_ = camera_for(options_);
+  SubdivisionOptions so;
+  so.tiles = options_.tiles.empty() ? automatic_tiles(camera_) : options_.tiles;
+  so.threads = options_.threads;
+  // One level breadth first: the driver keeps every frontier box's simplified tape, and in 3D
+  // two levels make thousands of them (gigabytes for a million-node expression).
+  so.breadth_first_levels = 1;
+  subdivider_ = std::make_unique<Subdivider>(so);
+  for (int i = 0; i < subdivider_->workers(); ++i) workers_.push_back(std::make_unique<Worker>());
+}
+
+Renderer3D::~Renderer3D() = default;
+
+DepthMap Renderer3D::render(const Tape& model) {
+  const Camera& cam = camera_;
+  const Tape tape = view_tape(model, cam, options_.bounds);
+  const std::size_t pixels = static_cast<std::size_t>(cam.width) * static_cast<std::size_t>(cam.height);
+  State st;
+  st.width = cam.width;
+  SampleGrid grid;
+  grid.cells = true;
+  grid.coords[0] = cam.u_edges();
+  grid.coords[1] = cam.v_edges();
+  grid.coords[2] = cam.w_samples();  // nearest first: the driver visits boxes in index order
+  st.uc = Camera::centers(grid.coords[0]);
+  st.vc = Camera::centers(grid.coords[1]);
+  st.ws = grid.coords[2];
+  st.best.assign(pixels, kNone);
+  st.key.assign(pixels, kNoKey);
+  st.depth.assign(pixels, std::numeric_limits<float>::quiet_NaN());
+  st.normal.assign(pixels, Vec3f{0, 0, 0});
+  st.row_locks = std::make_unique<std::mutex[]>(static_cast<std::size_t>(cam.height));
+  const int steps = options_.refine_steps;
+
+  struct Visitor {
+    Renderer3D& r;
+    State& st;
+    int steps;
+
+    std::uint32_t pixel(int col, int row) const { return static_cast<std::uint32_t>(row * st.width + col); }
+
+    bool skip(int, const IndexBox& b) {
+      for (int row = b.lo[1]; row < b.hi[1]; ++row)
+        for (int col = b.lo[0]; col < b.hi[0]; ++col)
+          if (atomic_load(st.best[pixel(col, row)]) > b.lo[2]) return false;
+      return true;
+    }
+    bool settled(int, const IndexBox& b, Interval v) {
+      if (v.is_unknown()) return false;
+      if (v.lo >= 0) return true;
+      if (!(v.hi < 0)) return false;
+      // Inside throughout: the box's first sample is inside for all its pixels.
+      for (int row = b.lo[1]; row < b.hi[1]; ++row)
+        for (int col = b.lo[0]; col < b.hi[0]; ++col) {
+          const std::uint32_t p = pixel(col, row);
+          atomic_min(st.best[p], b.lo[2]);
+          if (b.lo[2] == 0) st.write(p, 0, st.ws[0], kFacingViewer);
+        }
+      return true;
+    }
+    void leaf(int wi, const Tape& t, const IndexBox& b) {
+      Worker& w = *r.workers_[static_cast<std::size_t>(wi)];
+      const int s0 = b.lo[2], s1 = b.hi[2];
+      w.active.clear();
+      w.limit.clear();
+      for (int row = b.lo[1]; row < b.hi[1]; ++row)
+        for (int col = b.lo[0]; col < b.hi[0]; ++col) {
+          const std::uint32_t p = pixel(col, row);
+          const int known = atomic_load(st.best[p]);
+          if (known > s0) {
+            w.active.push_back(p);
+            w.limit.push_back(std::min(known, s1));
+          }
+        }
+      w.hit_pixel.clear();
+      w.hit_sample.clear();
+      w.hit_value.clear();
+      Refiner& rf = w.refiner;
+      rf.resize(w.active.size());
+      // Sample s0 belongs to the box in front too, which refines a hit there; if this box found
+      // it first, the crossing it refines in (s0, s0 + 1) is not the nearest and loses.
+      for (int s = s0 == 0 ? 0 : s0 + 1; s <= s1 && !w.active.empty(); ++s) {
+        const std::size_t n = w.active.size();
+        for (std::size_t i = 0; i < n; ++i) {
+          rf.us[i] = st.uc[w.active[i] % static_cast<std::uint32_t>(st.width)];
+          rf.vs[i] = st.vc[w.active[i] / static_cast<std::uint32_t>(st.width)];
+        }
+        std::fill(rf.ws.begin(), rf.ws.begin() + static_cast<std::ptrdiff_t>(n), st.ws[static_cast<std::size_t>(s)]);
+        rf.batch.eval(t, rf.us.data(), rf.vs.data(), rf.ws.data(), rf.out.data(), n);
+        std::size_t kept = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+          const std::uint32_t p = w.active[i];
+          if (rf.out[i] < 0) {
+            atomic_min(st.best[p], s);
+            if (s == 0) st.write(p, 0, st.ws[0], kFacingViewer);
+            else {
+              w.hit_pixel.push_back(p);
+              w.hit_sample.push_back(s);
+              w.hit_value.push_back(rf.out[i]);
+            }
+          } else if (s < w.limit[i]) {
+            w.active[kept] = p;
+            w.limit[kept] = w.limit[i];
+            ++kept;
+          }
+        }
+        w.active.resize(kept);
+        w.limit.resize(kept);
+      }
+      // Refine the hits that may still be the nearest.
+      std::size_t n = 0;
+      for (std::size_t i = 0; i < w.hit_pixel.size(); ++i) {
+        const std::uint32_t p = w.hit_pixel[i];
+        const int s = w.hit_sample[i];
+        if (atomic_load(st.best[p]) < s) continue;
+        w.hit_pixel[n] = p;
+        w.hit_sample[n] = s;
+        rf.fb[n] = w.hit_value[i];
+        rf.us[n] = st.uc[p % static_cast<std::uint32_t>(st.width)];
+        rf.vs[n] = st.vc[p / static_cast<std::uint32_t>(st.width)];
+        rf.a[n] = st.ws[static_cast<std::size_t>(s) - 1];
+        rf.b[n] = st.ws[static_cast<std::size_t>(s)];
+        ++n;
+      }
+      if (n == 0) return;
+      if (w.normals.size() < n) w.normals.resize(n);
+      rf.locate(t, n, steps, w.normals.data());
+      for (std::size_t i = 0; i < n; ++i)
+        st.write(w.hit_pixel[i], 2 * static_cast<std::uint32_t>(w.hit_sample[i]), rf.ws[i], w.normals[i]);
+    }
+  } visitor{*this, st, steps};
+  subdivider_->run(tape, grid, visitor);
+
+  DepthMap out;
+  out.camera = cam;
+  for (std::size_t p = 0; p < pixels; ++p)
+    FREP_ASSERT((st.best[p] == kNone) == (st.key[p] == kNoKey), "a pixel with an inside sample has no refined hit");
+  out.depth = std::move(st.depth);
+  out.normal = std::move(st.normal);
+  return out;
+}
+
+DepthMap render3d(const Tape& tape, const Render3DOptions& options) {
+  Renderer3D r(options);
+  return r.render(tape);
+}
+
+DepthMap render3d_brute_force(const Tape& model, const Render3DOptions& options, int row_step) {
+  check_options(options);
+  FREP_ASSERT(row_step >= 1, "row step must be positive");
+  const Camera cam = camera_for(options);
+  const Tape tape = view_tape(model, cam, options.bounds);
+  const std::vector<float> uc = Camera::centers(cam.u_edges()), vc = Camera::centers(cam.v_edges()),
+                           ws = cam.w_samples();
+  DepthMap out;
+  out.camera = cam;
+  const std::size_t pixels = static_cast<std::size_t>(cam.width) * static_cast<std::size_t>(cam.height);
+  out.depth.assign(pixels, std::numeric_limits<float>::quiet_NaN());
+  out.normal.assign(pixels, Vec3f{0, 0, 0});
+  Refiner rf;
+  BatchEvaluator batch;
+  const std::size_t w = static_cast<std::size_t>(cam.width);
+  std::vector<float> us(w), vs(w), zs(w), vals(w);
+  std::vector<std::uint32_t> active, hits;
+  std::vector<int> hit_sample;
+  std::vector<float> hit_value;
+  std::vector<Vec3f> normals;
+  for (int row = 0; row < cam.height; row += row_step) {
+    active.resize(w);
+    for (std::size_t c = 0; c < w; ++c) active[c] = static_cast<std::uint32_t>(c);
+    hits.clear();
+    hit_sample.clear();
+    hit_value.clear();
+    for (int s = 0; s <= cam.depth && !active.empty(); ++s) {
+      const std::size_t n = active.size();
+      for (std::size_t i = 0; i < n; ++i) us[i] = uc[active[i]];
+      std::fill(vs.begin(), vs.begin() + static_cast<std::ptrdiff_t>(n), vc[static_cast<std::size_t>(row)]);
+      std::fill(zs.begin(), zs.begin() + static_cast<std::ptrdiff_t>(n), ws[static_cast<std::size_t>(s)]);
+      batch.eval(tape, us.data(), vs.data(), zs.data(), vals.data(), n);
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (vals[i] < 0) {
+          hits.push_back(active[i]);
+          hit_sample.push_back(s);
+          hit_value.push_back(vals[i]);
+        } else {
+          active[kept++] = active[i];
+        }
+      }
+      active.resize(kept);
+    }
+    rf.resize(hits.size());
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+      const std::size_t p = out.index(static_cast<int>(hits[i]), row);
+      if (hit_sample[i] == 0) {
+        out.depth[p] = ws[0];
+        out.normal[p] = kFacingViewer;
+        continue;
+      }
+      hits[n] = hits[i];
+      rf.us[n] = uc[hits[i]];
+      rf.vs[n] = vc[static_cast<std::size_t>(row)];
+      rf.a[n] = ws[static_cast<std::size_t>(hit_sample[i]) - 1];
+      rf.b[n] = ws[static_cast<std::size_t>(hit_sample[i])];
+      rf.fb[n] = hit_value[i];
+      ++n;
+    }
+    if (n == 0) continue;
+    normals.resize(n);
+    rf.locate(tape, n, options.refine_steps, normals.data());
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t p = out.index(static_cast<int>(hits[i]), row);
+      out.depth[p] = rf.ws[i];
+      out.normal[p] = normals[i];
+    }
+  }
+  return out;
+}
+
+}  // namespace frep

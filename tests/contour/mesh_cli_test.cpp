@@ -1,0 +1,156 @@
+// End-to-end tests of `frep mesh`: run the built binary, check the exit code, what it prints and
+// the mesh it writes (read back and validated), and the errors for bad arguments and inputs.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "frep/expr/expr.hpp"
+#include "frep/io/vm.hpp"
+#include "frep/mesh/mesh_io.hpp"
+#include "frep/mesh/validate.hpp"
+#include "test_util.hpp"
+
+namespace frep {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+class MeshCommand : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("frep_mesh_cli_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    Graph g;
+    auto x = g.x(), y = g.y(), z = g.z();
+    ball_ = path("ball.vm");
+    save_vm(ball_, g, (sqrt(square(x - 0.1f) + square(y) + square(z)) - 0.6f).id());
+    Graph h;
+    half_ = path("half.vm");
+    save_vm(half_, h, (h.x() - 0.2f).id());
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  CliRun run(const std::string& args) {
+    const std::string out = path("stdout.txt"), err = path("stderr.txt");
+    const std::string cmd = std::string("'") + FREP_CLI_PATH + "' " + args + " >'" + out + "' 2>'" + err + "'";
+    const int status = std::system(cmd.c_str());
+    CliRun r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
+  }
+
+  fs::path dir_;
+  std::string ball_, half_;
+};
+
+TEST_F(MeshCommand, MeshesAndReports) {
+  for (const char* ext : {"stl", "obj", "ply"}) {
+    const std::string out = path(std::string("ball.") + ext);
+    const CliRun r = run("mesh '" + ball_ + "' -o '" + out + "' --resolution 24");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("found by interval search"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("triangles"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("dual contouring"), std::string::npos) << r.out;
+    const TriMesh m = read_mesh(out);
+    const ValidationReport v = validate_mesh(m);
+    EXPECT_TRUE(v.is_solid()) << v.summary();
+    EXPECT_NEAR(v.volume, 4.0 / 3.0 * M_PI * 0.216, 0.01);
+    EXPECT_NE(r.out.find(std::to_string(m.triangles.size()) + " triangles"), std::string::npos) << r.out;
+  }
+  // Snap, given bounds, cell size, threads, quiet.
+  const std::string out = path("snap.stl");
+  CliRun r = run("mesh '" + ball_ + "' -o '" + out + "' --cell 0.05 --bounds -1,-1,-1,1,1,1 --method snap -j 2");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("(given)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("40 x 40 x 40"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("snap"), std::string::npos) << r.out;
+  EXPECT_TRUE(validate_mesh(read_mesh(out)).is_solid());
+  r = run("mesh '" + ball_ + "' -o '" + out + "' -r 16 --method snap --snap-gradient central -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out, "");
+  // A cut shape: closed with caps, and said so.
+  r = run("mesh '" + ball_ + "' -o '" + out + "' -r 16 --bounds -0.3,-0.3,-0.3,0.3,0.3,0.3");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("caps"), std::string::npos) << r.out;
+  EXPECT_TRUE(validate_mesh(read_mesh(out)).is_solid());
+}
+
+TEST_F(MeshCommand, Errors) {
+  const std::string out = path("out.stl");
+  // Bad command lines: exit 2.
+  EXPECT_EQ(run("mesh '" + ball_ + "' -o '" + out + "'").code, 2);  // no cell size
+  EXPECT_EQ(run("mesh '" + ball_ + "' -o '" + out + "' -r 16 --cell 0.1").code, 2);
+  CliRun r = run("mesh '" + ball_ + "' -o '" + out + "' -r 100000");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("4096"), std::string::npos) << r.err;
+  EXPECT_EQ(run("mesh '" + ball_ + "' -o '" + out + "' -r 0").code, 2);
+  EXPECT_EQ(run("mesh '" + ball_ + "' -o '" + out + "' --cell nan").code, 2);
+  EXPECT_EQ(run("mesh '" + ball_ + "' -o '" + out + "' --cell -1").code, 2);
+  r = run("mesh '" + ball_ + "' -o '" + out + "' -r 16 --bounds 0,0,0,1,1,nan");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("finite"), std::string::npos) << r.err;
+  r = run("mesh '" + ball_ + "' -o '" + out + "' -r 16 --bounds 0,0,0,1,-1,1");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("empty along y"), std::string::npos) << r.err;
+  EXPECT_EQ(run("mesh '" + ball_ + "' -o '" + out + "' -r 16 --bounds 0,0,0,1").code, 2);
+  EXPECT_EQ(run("mesh '" + ball_ + "' -o '" + out + "' -r 16 --method marching").code, 2);
+  // Bad input: exit 1, nothing written.
+  r = run("mesh '" + half_ + "' -o '" + out + "' -r 16");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("--bounds"), std::string::npos) << r.err;
+  r = run("mesh '" + ball_ + "' -o '" + path("no/such/dir/out.stl") + "' -r 16");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
+  r = run("mesh '" + ball_ + "' -o '" + path("out.xyz") + "' -r 16");
+  EXPECT_EQ(r.code, 1);
+  r = run("mesh '" + ball_ + "' -o '" + out + "' --cell 1e-5");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("limit"), std::string::npos) << r.err;
+  {
+    std::ofstream f(path("cube.stl"));
+    f << "solid x\nendsolid x\n";
+  }
+  r = run("mesh '" + path("cube.stl") + "' -o '" + out + "' -r 16");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("cube.stl"), std::string::npos) << r.err;  // an empty mesh, named
+  EXPECT_EQ(run("mesh '" + path("missing.vm") + "' -o '" + out + "' -r 16").code, 1);
+  // Nothing inside the bounds.
+  r = run("mesh '" + ball_ + "' -o '" + out + "' -r 16 --bounds 2,2,2,3,3,3");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("nothing to mesh"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  // Nothing inside anywhere.
+  {
+    Graph g;
+    save_vm(path("none.vm"), g, (sqrt(square(g.x()) + square(g.y()) + square(g.z())) + 1.0f).id());
+  }
+  r = run("mesh '" + path("none.vm") + "' -o '" + out + "' -r 16");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("not negative anywhere"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+}  // namespace
+}  // namespace frep
