@@ -2,11 +2,8 @@
 // expression, written as float32 .npy files (layout in frep/sample/grid.hpp, docs/sample.md).
 #include <fmt/core.h>
 
-#include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <optional>
 
 #include "commands.hpp"
@@ -20,12 +17,6 @@
 
 namespace frep::cli {
 namespace {
-
-bool is_mesh_path(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext == ".stl" || ext == ".obj" || ext == ".ply" || ext == ".off";
-}
 
 Box3 parse_bounds(const std::vector<double>& v) {
   if (v.size() != 6) throw CLI::ValidationError("--bounds", "needs six numbers x0,y0,z0,x1,y1,z1");
@@ -106,61 +97,70 @@ void register_sample(CLI::App& app) {
     std::vector<float> data;
     std::vector<std::size_t> shape;
     std::string what;
-    if (is_mesh_path(a->input)) {
-      MeshFieldOptions fo;
-      fo.sign = a->sign == "winding" ? SignMethod::WindingNumber : SignMethod::Pseudonormal;
-      fo.weld_tolerance = a->weld_tolerance;
-      fo.threads = a->threads;
-      const MeshField field(read_mesh(a->input), fo);
-      if (!field.solid() && !a->quiet)
-        std::fprintf(stderr, "frep sample: %s: %s; signs from the winding number\n", a->input.c_str(),
-                     field.summary().c_str());
-      const Box3 b = bounds ? *bounds : default_mesh_bounds(field.box());
-      if (a->grid) {
-        MeshGridOptions go;
-        go.threads = a->threads;
-        go.method = a->method == "cpt" ? MeshGridMethod::Cpt
-                                        : (a->method == "queries" ? MeshGridMethod::Queries : MeshGridMethod::Auto);
-        go.progress = progress;
-        MeshGridStats st;
-        data = sample_grid(field, cube_grid(b, a->grid), go, &st);
-        what = st.method == MeshGridMethod::Cpt
-                   ? fmt::format("closest point transform, {} polyhedra, {:.2f} distances per sample", st.features,
-                                 static_cast<double>(st.evaluations) / static_cast<double>(data.size()))
-                   : "one oracle query per sample";
+    Box3 used;  // the bounds sampled, printed so that another run can reuse them
+    try {
+      if (format_from_extension(a->input) != MeshFormat::Unknown) {
+        MeshFieldOptions fo;
+        fo.sign = a->sign == "winding" ? SignMethod::WindingNumber : SignMethod::Pseudonormal;
+        fo.weld_tolerance = a->weld_tolerance;
+        fo.threads = a->threads;
+        const MeshField field(read_mesh(a->input), fo);
+        if (!field.solid() && !a->quiet)
+          std::fprintf(stderr, "frep sample: %s: %s; signs from the winding number\n", a->input.c_str(),
+                       field.summary().c_str());
+        const Box3 b = bounds ? *bounds : default_mesh_bounds(field.box());
+        used = b;
+        if (a->grid) {
+          MeshGridOptions go;
+          go.threads = a->threads;
+          go.method = a->method == "cpt" ? MeshGridMethod::Cpt
+                                          : (a->method == "queries" ? MeshGridMethod::Queries : MeshGridMethod::Auto);
+          go.progress = progress;
+          MeshGridStats st;
+          data = sample_grid(field, cube_grid(b, a->grid), go, &st);
+          what = st.method == MeshGridMethod::Cpt
+                     ? fmt::format("closest point transform, {} polyhedra, {:.2f} distances per sample", st.features,
+                                   static_cast<double>(st.evaluations) / static_cast<double>(data.size()))
+                     : "one oracle query per sample";
+        } else {
+          PointSampleOptions po;
+          po.seed = a->seed;
+          po.threads = a->threads;
+          data = sample_uniform(field, b, a->points, po);
+          if (a->near) {
+            const std::vector<float> n = sample_near_surface(field, a->near, *a->sigma, po);
+            data.insert(data.end(), n.begin(), n.end());
+          }
+        }
+        what += std::string(what.empty() ? "" : ", ") +
+                (field.sign() == SignMethod::Pseudonormal ? "pseudonormal signs" : "winding-number signs");
       } else {
-        PointSampleOptions po;
-        po.seed = a->seed;
-        po.threads = a->threads;
-        data = sample_uniform(field, b, a->points, po);
-        if (a->near) {
-          const std::vector<float> n = sample_near_surface(field, a->near, *a->sigma, po);
-          data.insert(data.end(), n.begin(), n.end());
+        const Model m = load_expression(a->input);
+        const Tape tape = Tape::compile(*m.graph, m.root);
+        if (!bounds && !a->quiet)
+          std::fprintf(stderr, "frep sample: no --bounds given: sampling the expression over [-1,1]^3\n");
+        const Box3 b = bounds ? *bounds : Box3{{-1, -1, -1}, {1, 1, 1}};
+        used = b;
+        if (a->grid) {
+          ExprGridOptions eo;
+          eo.threads = a->threads;
+          data = sample_grid(tape, cube_grid(b, a->grid), eo);
+          what = "pruned evaluator";
+        } else {
+          PointSampleOptions po;
+          po.seed = a->seed;
+          po.threads = a->threads;
+          data = sample_uniform(tape, b, a->points, po);
+          if (a->near) {
+            const std::vector<float> n = sample_near_surface(tape, b, a->near, *a->sigma, po);
+            data.insert(data.end(), n.begin(), n.end());
+          }
         }
       }
-      what += std::string(what.empty() ? "" : ", ") +
-              (field.sign() == SignMethod::Pseudonormal ? "pseudonormal signs" : "winding-number signs");
-    } else {
-      const Model m = load_expression(a->input);
-      const Tape tape = Tape::compile(*m.graph, m.root);
-      if (!bounds && !a->quiet)
-        std::fprintf(stderr, "frep sample: no --bounds given: sampling the expression over [-1,1]^3\n");
-      const Box3 b = bounds ? *bounds : Box3{{-1, -1, -1}, {1, 1, 1}};
-      if (a->grid) {
-        ExprGridOptions eo;
-        eo.threads = a->threads;
-        data = sample_grid(tape, cube_grid(b, a->grid), eo);
-        what = "pruned evaluator";
-      } else {
-        PointSampleOptions po;
-        po.seed = a->seed;
-        po.threads = a->threads;
-        data = sample_uniform(tape, b, a->points, po);
-        if (a->near) {
-          const std::vector<float> n = sample_near_surface(tape, b, a->near, *a->sigma, po);
-          data.insert(data.end(), n.begin(), n.end());
-        }
-      }
+    } catch (const InputError& e) {
+      // The sampler sees a mesh or a tape, not a file: name the input here.
+      if (!e.file().empty()) throw;
+      throw InputError(a->input, e.line(), e.detail(), e.byte_offset());
     }
     if (a->grid) shape = {std::size_t(a->grid), std::size_t(a->grid), std::size_t(a->grid)};
     else shape = {data.size() / 4, 4};
@@ -169,7 +169,8 @@ void register_sample(CLI::App& app) {
     if (a->quiet) return;
     std::string dims;
     for (std::size_t s : shape) dims += (dims.empty() ? "" : " x ") + std::to_string(s);
-    fmt::print("wrote {}: float32 {} ({}), {:.2f} s\n", a->output, dims, what.empty() ? "points" : what, secs);
+    fmt::print("wrote {}: float32 {} ({}), {:.2f} s\n  bounds {},{},{},{},{},{}\n", a->output, dims,
+               what.empty() ? "points" : what, secs, used.lo.x, used.lo.y, used.lo.z, used.hi.x, used.hi.y, used.hi.z);
   });
 }
 
