@@ -1,11 +1,13 @@
 // frep sample's dense grid against OpenVDB's meshToSignedDistanceField on the same mesh, in one
-// run, at the same voxel size, both with all cores. frep computes every sample exactly (double
-// precision, rounded to float32); OpenVDB computes a narrow band (3 voxels each side, its
-// default) and, for reference, a band wide enough to cover the whole grid. Optionally also the
-// expression path (a .frep/.vm of the same mesh: grid time, and points per second of the
-// expression against MeshDistance on the same uniform points).
+// run, at the same voxel size, all with all cores. frep computes every sample exactly: from the
+// mesh by the closest point transform (double precision, rounded to float32), and from the
+// mesh's converted expression by the pruned evaluator (float32). OpenVDB computes a narrow band
+// of 3 voxels each side (openvdb::LEVEL_SET_HALF_WIDTH, its default) and, for grids up to 128^3,
+// a band wide enough to cover the whole grid. Then the expression against MeshDistance on the
+// same scattered points (uniform in the grid's box, and near the surface).
 //   build/bench/bench_sample_openvdb MESH [N=256] [EXPR]
-// Prints one line per measurement, "name seconds", and the ratios.
+// EXPR: an expression file to use instead of converting MESH in the run. Prints one line per
+// measurement and the ratios.
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/MeshToVolume.h>
 
@@ -15,11 +17,13 @@
 #include <cstdlib>
 #include <string>
 
+#include "frep/convert/convert.hpp"
 #include "frep/eval/point_cloud.hpp"
 #include "frep/io/load.hpp"
 #include "frep/mesh/mesh_io.hpp"
 #include "frep/sample/grid.hpp"
 #include "frep/sample/mesh_field.hpp"
+#include "frep/sample/points.hpp"
 
 namespace {
 
@@ -34,6 +38,7 @@ int main(int argc, char** argv) {
   }
   const std::string path = argv[1];
   const int n = argc > 2 ? std::atoi(argv[2]) : 256;
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // lines appear as measured, even if the run is stopped
   openvdb::initialize();
   const frep::TriMesh mesh = frep::read_mesh(path);
 
@@ -63,7 +68,7 @@ int main(int argc, char** argv) {
     const double e = now() - s;
     return std::make_pair(e, g->activeVoxelCount());
   };
-  const auto [t_vdb, active] = run_vdb(3.0f);
+  const auto [t_vdb, active] = run_vdb(static_cast<float>(openvdb::LEVEL_SET_HALF_WIDTH));
   // The band that covers the whole grid is slow (tens of seconds at 128^3): only for small grids.
   const auto [t_vdb_wide, active_wide] = n <= 128 ? run_vdb(static_cast<float>(n)) : std::make_pair(0.0, openvdb::Index64(0));
 
@@ -81,41 +86,59 @@ int main(int argc, char** argv) {
   std::printf("ratio (frep_prepare + frep_grid) / openvdb_band3: %.2f\n", (t_prepare + t_grid) / t_vdb);
   if (t_vdb_wide > 0) std::printf("ratio frep_grid / openvdb_dense: %.2f\n", t_grid / t_vdb_wide);
 
-  if (argc > 3) {
-    const frep::Model m = frep::load_expression(argv[3]);
+  {
+    t = now();
+    frep::Model m;
+    std::size_t nodes = 0;
+    if (argc > 3) {
+      m = frep::load_expression(argv[3]);
+    } else {
+      frep::ConvertResult c = frep::convert_mesh(mesh);
+      nodes = c.stats.nodes;
+      m = std::move(c.model);
+    }
     const frep::Tape tape = frep::Tape::compile(*m.graph, m.root);
+    const double t_load = now() - t;
     t = now();
     const std::vector<float> ev = frep::sample_grid(tape, grid);
     const double t_expr = now() - t;
     double worst = 0;
     for (std::size_t i = 0; i < ev.size(); ++i) worst = std::max(worst, std::fabs(double(ev[i]) - ours[i]));
-    std::printf("expr_grid_s %.3f   (%s, %zu instructions; max |expr - mesh| %.3g = %.3g of the diagonal)\n", t_expr,
-                argv[3], tape.size(), worst, worst / frep::length(field.box().size()));
-    // Points per second on the same uniform points: the expression (pruned point cloud) against the oracle.
-    const std::size_t np = 1000000;
-    std::vector<float> xs(np), ys(np), zs(np), out(np);
-    // Same points for both: drawn once.
-    std::vector<double> xd(np), yd(np), zd(np), od(np);
-    std::uint64_t s = 12345;
-    for (std::size_t i = 0; i < np; ++i) {
-      auto u = [&] {
-        s = s * 6364136223846793005ull + 1442695040888963407ull;
-        return static_cast<double>(s >> 11) * 0x1.0p-53;
-      };
-      xs[i] = static_cast<float>(grid.bounds.lo.x + (grid.bounds.hi.x - grid.bounds.lo.x) * u());
-      ys[i] = static_cast<float>(grid.bounds.lo.y + (grid.bounds.hi.y - grid.bounds.lo.y) * u());
-      zs[i] = static_cast<float>(grid.bounds.lo.z + (grid.bounds.hi.z - grid.bounds.lo.z) * u());
-      xd[i] = xs[i], yd[i] = ys[i], zd[i] = zs[i];
-    }
-    t = now();
-    frep::eval_points(tape, xs.data(), ys.data(), zs.data(), out.data(), np);
-    const double t_pts_expr = now() - t;
-    t = now();
-    field.distance().signed_distance(xd.data(), yd.data(), zd.data(), od.data(), np, frep::SignMethod::Pseudonormal);
-    const double t_pts_mesh = now() - t;
-    std::printf("expr_points_per_s %.3g   mesh_distance_points_per_s %.3g   (1M uniform points, all cores)\n",
-                np / t_pts_expr, np / t_pts_mesh);
+    const double diag = frep::length(field.box().size());
+    if (argc > 3) std::printf("expr_load_s %.3f   (%s, %zu instructions)\n", t_load, argv[3], tape.size());
+    else std::printf("expr_convert_s %.3f   (%zu nodes, %zu instructions)\n", t_load, nodes, tape.size());
+    std::printf("expr_grid_s %.3f   (pruned evaluator; max |expr - mesh grid| %.3g = %.3g of the diagonal)\n", t_expr,
+                worst, worst / diag);
+    std::printf("ratio expr_grid / openvdb_band3: %.2f\n", t_expr / t_vdb);
     std::printf("ratio expr_grid / frep_grid: %.2f\n", t_expr / t_grid);
+
+    // The same scattered points for both: 1M uniform in the grid's box, 1M near the surface
+    // (Gaussian, deviation 1% of the diagonal); float32 coordinates, widened for the oracle.
+    const std::size_t np = 1000000;
+    frep::PointSampleOptions po;
+    po.seed = 1;
+    const std::vector<float> uni = frep::sample_uniform(field, grid.bounds, np, po);
+    const std::vector<float> near = frep::sample_near_surface(field, np, 0.01 * diag, po);
+    for (const auto& [name, rows] : {std::pair<const char*, const std::vector<float>*>{"uniform", &uni},
+                                     std::pair<const char*, const std::vector<float>*>{"near_surface", &near}}) {
+      std::vector<float> xs(np), ys(np), zs(np), out(np);
+      std::vector<double> xd(np), yd(np), zd(np), od(np);
+      for (std::size_t i = 0; i < np; ++i) {
+        xs[i] = (*rows)[4 * i], ys[i] = (*rows)[4 * i + 1], zs[i] = (*rows)[4 * i + 2];
+        xd[i] = xs[i], yd[i] = ys[i], zd[i] = zs[i];
+      }
+      t = now();
+      frep::eval_points(tape, xs.data(), ys.data(), zs.data(), out.data(), np);
+      const double t_pts_expr = now() - t;
+      t = now();
+      field.distance().signed_distance(xd.data(), yd.data(), zd.data(), od.data(), np, frep::SignMethod::Pseudonormal);
+      const double t_pts_mesh = now() - t;
+      double w = 0;
+      for (std::size_t i = 0; i < np; ++i) w = std::max(w, std::fabs(double(out[i]) - od[i]));
+      std::printf("%s points: expr_s %.3f (%.3g points/s)   mesh_distance_s %.3f (%.3g points/s)   ratio expr / "
+                  "mesh_distance %.2f   max |expr - mesh| %.3g of the diagonal\n",
+                  name, t_pts_expr, np / t_pts_expr, t_pts_mesh, np / t_pts_mesh, t_pts_expr / t_pts_mesh, w / diag);
+    }
   }
   return 0;
 }

@@ -8,7 +8,7 @@
 // From a mesh: exact (double precision, rounded once to float32), by the closest point transform
 // (scan conversion of each feature's characteristic polyhedron, see docs/sample.md) for valid
 // solids with pseudonormal signs, else by one oracle query per sample. From an expression: the
-// pruned evaluator (interval subdivision, simplified tapes, SIMD batches), in float32.
+// pruned evaluator (interval simplification depth first, SIMD batches at the leaves), in float32.
 #pragma once
 
 #include <array>
