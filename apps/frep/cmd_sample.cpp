@@ -1,5 +1,5 @@
 // frep sample: dense grids and point samples of exact signed distances, from a mesh or an
-// expression, written as float32 .npy files (layout in frep/sample/grid.hpp, docs/sample.md).
+// expression, written as float32 .npy files (layout in frep/sample/grid.hpp, docs/sampling.md).
 #include <fmt/core.h>
 
 #include <chrono>

@@ -8,7 +8,7 @@
 //
 // How far a polyhedron must reach: a feature's Voronoi region is a union of segments from the
 // feature, so the distances at which it still owns points form an interval [0, T]. Exact
-// distances at the centres of coarse cells (8^3 samples, one oracle query each) bound T: a point
+// distances at the centres of coarse cells (4^3 samples, one oracle query each) bound T: a point
 // x owned by feature F lies in a cell with centre c and half-diagonal r, and then
 // d(c, F) <= d(x, F) + r = d(x) + r <= d(c) + 2r. Walking outward in shells of one cell, the
 // first shell without a cell passing that test ends the polyhedron.

@@ -6,7 +6,7 @@
 //   array[i][j][k] is f(x_i, y_j, z_k).
 //
 // From a mesh: exact (double precision, rounded once to float32), by the closest point transform
-// (scan conversion of each feature's characteristic polyhedron, see docs/sample.md) for valid
+// (scan conversion of each feature's characteristic polyhedron, see docs/sampling.md) for valid
 // solids with pseudonormal signs, else by one oracle query per sample. From an expression: the
 // pruned evaluator (interval simplification depth first, SIMD batches at the leaves), in float32.
 #pragma once
