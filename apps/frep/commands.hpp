@@ -27,6 +27,7 @@ void register_sdf(CLI::App& app);
 void register_convert(CLI::App& app);
 void register_mesh(CLI::App& app);
 void register_export(CLI::App& app);
+void register_sample(CLI::App& app);
 
 inline void register_commands(CLI::App& app) {
   register_info(app);
@@ -37,6 +38,7 @@ inline void register_commands(CLI::App& app) {
   register_convert(app);
   register_mesh(app);
   register_export(app);
+  register_sample(app);
 }
 
 }  // namespace frep::cli

@@ -30,6 +30,7 @@ struct MeshDistance::Data {
   std::vector<std::array<std::uint32_t, 3>> tri_edges;  // per mesh triangle: edge k's id, or kNone
   std::vector<Vec3> vertex_normal;            // per welded vertex
   std::vector<Triangle> welded;               // per mesh triangle, welded vertex indices
+  std::vector<std::uint32_t> leaf_of;         // mesh triangle index -> leaf order (closest_point_on)
 };
 
 namespace {
@@ -270,6 +271,8 @@ MeshDistance::MeshDistance(const TriMesh& m, const MeshTopology& topo, const Mes
   FREP_ASSERT(bvh->order().size() == nt, "hierarchy of another mesh");
   d.tri_id = bvh->order();
   d.tri.resize(nt);
+  d.leaf_of.resize(nt);
+  for (std::size_t i = 0; i < nt; ++i) d.leaf_of[d.tri_id[i]] = static_cast<std::uint32_t>(i);
   std::vector<std::array<Vec3, 3>> corners(nt);
   for (std::size_t i = 0; i < nt; ++i) {
     const std::uint32_t t = d.tri_id[i];
@@ -305,17 +308,22 @@ ClosestPoint MeshDistance::closest_point(const Vec3& p) const {
   double d2 = INFINITY;
   const std::uint32_t i = mesh_detail::nearest_triangle(d_->wide.data(), d_->packets.data(), p, d2);
   if (i >= d_->tri.size()) return {NAN, p, 0, Feature::Face};  // a NaN coordinate: nothing is nearer than infinity
+  return closest_point_on(p, d_->tri_id[i]);
+}
+
+ClosestPoint MeshDistance::closest_point_on(const Vec3& p, std::uint32_t triangle) const {
+  FREP_ASSERT(triangle < d_->welded.size(), "triangle index out of range");
   Feature f;
-  const Data::Tri& t = d_->tri[i];
+  const Data::Tri& t = d_->tri[d_->leaf_of[triangle]];
   const Vec3 q = closest_on_triangle(p, t.a, t.b, t.c, f);
   // Inside the face's prism the distance is the plane distance: computed from the normal it
   // does not inherit the rounding of the in-plane coordinates of q, which matters for huge
   // triangles (a face 1e38 wide would otherwise be off by about 1e22).
   if (f == Feature::Face) {
-    const Vec3& n = d_->face_normal[d_->tri_id[i]];
-    if (length2(n) > 0) return {std::fabs(dot(p - t.a, n)), q, d_->tri_id[i], f};
+    const Vec3& n = d_->face_normal[triangle];
+    if (length2(n) > 0) return {std::fabs(dot(p - t.a, n)), q, triangle, f};
   }
-  return {length(p - q), q, d_->tri_id[i], f};
+  return {length(p - q), q, triangle, f};
 }
 
 double MeshDistance::winding_number(const Vec3& p) const {

@@ -52,6 +52,10 @@ class MeshDistance {
   ~MeshDistance();
 
   ClosestPoint closest_point(const Vec3& p) const;
+  // The closest point on one given triangle (an index of the mesh's triangles), computed exactly
+  // as closest_point computes it on the triangle it finds: callers that know the nearest
+  // triangle by other means (frep/sample/grid.hpp) get the same distance bits.
+  ClosestPoint closest_point_on(const Vec3& p, std::uint32_t triangle) const;
   double unsigned_distance(const Vec3& p) const { return closest_point(p).distance; }
   // Generalized winding number: 1 inside a closed outward surface, 0 outside, fractional near holes.
   double winding_number(const Vec3& p) const;

@@ -1,0 +1,177 @@
+// frep sample: dense grids and point samples of exact signed distances, from a mesh or an
+// expression, written as float32 .npy files (layout in frep/sample/grid.hpp, docs/sampling.md).
+#include <fmt/core.h>
+
+#include <chrono>
+#include <cstdio>
+#include <optional>
+
+#include "commands.hpp"
+#include "frep/error.hpp"
+#include "frep/io/load.hpp"
+#include "frep/io/npy.hpp"
+#include "frep/mesh/mesh_io.hpp"
+#include "frep/sample/grid.hpp"
+#include "frep/sample/mesh_field.hpp"
+#include "frep/sample/points.hpp"
+
+namespace frep::cli {
+namespace {
+
+Box3 parse_bounds(const std::vector<double>& v) {
+  if (v.size() != 6) throw CLI::ValidationError("--bounds", "needs six numbers x0,y0,z0,x1,y1,z1");
+  const Box3 b{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
+  for (int a = 0; a < 3; ++a)
+    if (!std::isfinite(b.lo[a]) || !std::isfinite(b.hi[a]) || !(b.lo[a] < b.hi[a]))
+      throw CLI::ValidationError("--bounds", "needs finite numbers with x0 < x1, y0 < y1, z0 < z1");
+  return b;
+}
+
+}  // namespace
+
+void register_sample(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "sample",
+      "Sample exact signed distances (negative inside) of a mesh or an expression into a float32 .npy file: "
+      "a dense grid (--grid) or points with their distances (--points, --near-surface), as used to train "
+      "neural SDFs");
+  struct Args {
+    std::string input, output, sign = "pseudonormal", method = "auto";
+    int grid = 0;
+    std::vector<double> bounds;
+    std::size_t points = 0, near = 0;
+    std::optional<double> sigma;
+    std::uint64_t seed = 0;
+    double weld_tolerance = 0;
+    int threads = 0;
+    bool quiet = false;
+  };
+  auto a = std::make_shared<Args>();
+  cmd->add_option("INPUT", a->input, "Mesh (.stl, .obj, .ply, .off) or expression (.vm, .rhai, .frep)")->required();
+  cmd->add_option("-o,--output", a->output, "Output .npy file")->required();
+  auto* grid = cmd->add_option("--grid", a->grid,
+                               "Dense N x N x N grid: array[i][j][k] = f(x_i, y_j, z_k), samples at linspace over the "
+                               "bounds, ends included")
+                   ->check(CLI::Range(2, 4096));
+  cmd->add_option("--bounds", a->bounds,
+                  "x0,y0,z0,x1,y1,z1 (default: the cube around a mesh's box, 5% of its diagonal beyond it; [-1,1]^3 "
+                  "for an expression)")
+      ->delimiter(',')
+      ->expected(6);
+  auto* points = cmd->add_option("--points", a->points, "P points uniform in the bounds: rows (x, y, z, d)");
+  auto* near = cmd->add_option("--near-surface", a->near,
+                               "K points near the surface: surface samples plus Gaussian noise of deviation --sigma");
+  auto* sigma = cmd->add_option("--sigma", a->sigma, "Standard deviation of the noise of --near-surface (length)")
+                    ->check(finite_non_negative());
+  near->needs(sigma);
+  sigma->needs(near);
+  grid->excludes(points)->excludes(near);
+  cmd->add_option("--seed", a->seed, "Seed of the random points (default 0); the same seed gives the same file");
+  cmd->add_option("--sign", a->sign,
+                  "Meshes: sign of valid solids by the closest feature's 'pseudonormal' (default; exact, and the fast "
+                  "grid algorithm) or the 'winding' number; other meshes always use the winding number")
+      ->check(CLI::IsMember({"pseudonormal", "winding"}));
+  cmd->add_option("--method", a->method,
+                  "Meshes, --grid: 'auto' (default), 'cpt' (closest point transform) or 'queries' (one oracle query per "
+                  "sample)")
+      ->check(CLI::IsMember({"auto", "cpt", "queries"}));
+  cmd->add_option("--weld-tolerance", a->weld_tolerance, "Meshes: merge vertices closer than this first (default 0)")
+      ->check(finite_non_negative());
+  cmd->add_option("--threads", a->threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0, 1024));
+  cmd->add_flag("--quiet,-q", a->quiet, "Print nothing but errors");
+  cmd->callback([a] {
+    if (a->grid == 0 && a->points == 0 && a->near == 0)
+      throw CLI::ValidationError("frep sample", "give --grid N, --points P or --near-surface K --sigma S");
+    std::optional<Box3> bounds;
+    if (!a->bounds.empty()) bounds = parse_bounds(a->bounds);
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::size_t work = a->grid ? std::size_t(a->grid) * a->grid * a->grid : a->points + a->near;
+    const bool show = !a->quiet && work >= (std::size_t(1) << 21);
+    int last = -1;
+    auto progress = [show, &last](const char* stage, double f) {
+      const int pct = static_cast<int>(100 * f);
+      if (!show || pct / 10 == last / 10) return;
+      last = pct;
+      std::fprintf(stderr, "frep sample: %3d%% %s\n", pct, stage);
+    };
+    std::vector<float> data;
+    std::vector<std::size_t> shape;
+    std::string what;
+    Box3 used;  // the bounds sampled, printed so that another run can reuse them
+    try {
+      if (format_from_extension(a->input) != MeshFormat::Unknown) {
+        MeshFieldOptions fo;
+        fo.sign = a->sign == "winding" ? SignMethod::WindingNumber : SignMethod::Pseudonormal;
+        fo.weld_tolerance = a->weld_tolerance;
+        fo.threads = a->threads;
+        const MeshField field(read_mesh(a->input), fo);
+        if (!field.solid() && !a->quiet)
+          std::fprintf(stderr, "frep sample: %s: %s; signs from the winding number\n", a->input.c_str(),
+                       field.summary().c_str());
+        const Box3 b = bounds ? *bounds : default_mesh_bounds(field.box());
+        used = b;
+        if (a->grid) {
+          MeshGridOptions go;
+          go.threads = a->threads;
+          go.method = a->method == "cpt" ? MeshGridMethod::Cpt
+                                          : (a->method == "queries" ? MeshGridMethod::Queries : MeshGridMethod::Auto);
+          go.progress = progress;
+          MeshGridStats st;
+          data = sample_grid(field, cube_grid(b, a->grid), go, &st);
+          what = st.method == MeshGridMethod::Cpt
+                     ? fmt::format("closest point transform, {} polyhedra, {:.2f} distances per sample", st.features,
+                                   static_cast<double>(st.evaluations) / static_cast<double>(data.size()))
+                     : "one oracle query per sample";
+        } else {
+          PointSampleOptions po;
+          po.seed = a->seed;
+          po.threads = a->threads;
+          data = sample_uniform(field, b, a->points, po);
+          if (a->near) {
+            const std::vector<float> n = sample_near_surface(field, a->near, *a->sigma, po);
+            data.insert(data.end(), n.begin(), n.end());
+          }
+        }
+        what += std::string(what.empty() ? "" : ", ") +
+                (field.sign() == SignMethod::Pseudonormal ? "pseudonormal signs" : "winding-number signs");
+      } else {
+        const Model m = load_expression(a->input);
+        const Tape tape = Tape::compile(*m.graph, m.root);
+        if (!bounds && !a->quiet)
+          std::fprintf(stderr, "frep sample: no --bounds given: sampling the expression over [-1,1]^3\n");
+        const Box3 b = bounds ? *bounds : Box3{{-1, -1, -1}, {1, 1, 1}};
+        used = b;
+        if (a->grid) {
+          ExprGridOptions eo;
+          eo.threads = a->threads;
+          data = sample_grid(tape, cube_grid(b, a->grid), eo);
+          what = "pruned evaluator";
+        } else {
+          PointSampleOptions po;
+          po.seed = a->seed;
+          po.threads = a->threads;
+          data = sample_uniform(tape, b, a->points, po);
+          if (a->near) {
+            const std::vector<float> n = sample_near_surface(tape, b, a->near, *a->sigma, po);
+            data.insert(data.end(), n.begin(), n.end());
+          }
+        }
+      }
+    } catch (const InputError& e) {
+      // The sampler sees a mesh or a tape, not a file: name the input here.
+      if (!e.file().empty()) throw;
+      throw InputError(a->input, e.line(), e.detail(), e.byte_offset());
+    }
+    if (a->grid) shape = {std::size_t(a->grid), std::size_t(a->grid), std::size_t(a->grid)};
+    else shape = {data.size() / 4, 4};
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    write_npy(a->output, data.data(), shape);
+    if (a->quiet) return;
+    std::string dims;
+    for (std::size_t s : shape) dims += (dims.empty() ? "" : " x ") + std::to_string(s);
+    fmt::print("wrote {}: float32 {} ({}), {:.2f} s\n  bounds {},{},{},{},{},{}\n", a->output, dims,
+               what.empty() ? "points" : what, secs, used.lo.x, used.lo.y, used.lo.z, used.hi.x, used.hi.y, used.hi.z);
+  });
+}
+
+}  // namespace frep::cli

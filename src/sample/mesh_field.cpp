@@ -1,0 +1,31 @@
+// A mesh prepared for sampling: weld, check, topology, distance oracle, and the sign method.
+#include "frep/sample/mesh_field.hpp"
+
+#include "frep/mesh/topology.hpp"
+#include "frep/mesh/validate.hpp"
+#include "frep/mesh/weld.hpp"
+
+namespace frep {
+
+MeshField::MeshField(const TriMesh& mesh, const MeshFieldOptions& options) {
+  mesh.check_consistent();
+  ValidationOptions vo;
+  vo.weld_tolerance = options.weld_tolerance;
+  vo.threads = options.threads;
+  const ValidationReport report = validate_mesh(mesh, vo);
+  solid_ = report.is_solid();
+  summary_ = report.summary();
+  area_ = report.area;
+  sign_ = solid_ ? options.sign : SignMethod::WindingNumber;
+  WeldResult w = weld(mesh, {options.weld_tolerance});
+  welded_ = std::make_unique<TriMesh>(std::move(w.mesh));
+  topology_ = std::make_unique<MeshTopology>(*welded_);
+  distance_ = std::make_unique<MeshDistance>(*welded_, *topology_);
+  box_ = bounding_box(*welded_);
+}
+
+MeshField::~MeshField() = default;
+MeshField::MeshField(MeshField&&) noexcept = default;
+MeshField& MeshField::operator=(MeshField&&) noexcept = default;
+
+}  // namespace frep
