@@ -1,5 +1,5 @@
 // Grid layout, and dense grids of signed distances from meshes (closest point transform or
-// oracle queries) and from expressions (interval pruning depth first, SIMD batches at the leaves).
+// oracle queries) and from expressions (the subdivision driver, SIMD batches at the leaves).
 #include "frep/sample/grid.hpp"
 
 #include <algorithm>
@@ -13,6 +13,7 @@
 
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
+#include "frep/eval/subdivision.hpp"
 #include "frep/sample/mesh_field.hpp"
 #include "frep/util/thread_pool.hpp"
 #include "sample/cpt.hpp"
@@ -107,62 +108,45 @@ std::vector<float> sample_grid(const Tape& tape, const GridSpec& grid, const Exp
     for (int i = 0; i < grid.counts[a]; ++i) coords[a][static_cast<std::size_t>(i)] = static_cast<float>(grid.coord(a, i));
   }
   std::vector<float> out(grid.size());
-  // Depth first per top-level box, each worker keeping one simplified tape per level. Not the
-  // shared subdivision driver: it keeps the simplified tapes of its whole breadth-first frontier,
-  // and a sampler settles no box, so for a converted mesh (millions of instructions) that frontier
-  // alone took more than 14 GB at 64^3.
-  struct Worker {
-    IntervalEvaluator interval;
+  SampleGrid sg;
+  sg.coords = std::move(coords);
+  // The subdivision driver without a breadth-first frontier: a sampler settles no box, so a
+  // frontier would keep a simplified tape for every box of its levels (for a converted mesh of
+  // millions of instructions, more than 14 GB at 64^3); this way each worker keeps one group of
+  // tapes per level.
+  Subdivider driver({tiles, options.threads, 0});
+  struct Scratch {
     BatchEvaluator batch;
-    std::vector<Tape> tapes;
     std::vector<float> xs, ys, zs, vs;
   };
-  ThreadPool pool(options.threads);
-  std::vector<std::unique_ptr<Worker>> workers;
-  for (int w = 0; w < pool.size(); ++w) {
-    workers.push_back(std::make_unique<Worker>());
-    workers.back()->tapes.resize(tiles.size());
-  }
-  using Box = std::array<std::array<int, 2>, 3>;  // [lo, hi) per axis
-  auto children = [&](const Box& b, int edge, auto&& fn) {
-    for (int i = b[0][0]; i < b[0][1]; i += edge)
-      for (int j = b[1][0]; j < b[1][1]; j += edge)
-        for (int k = b[2][0]; k < b[2][1]; k += edge)
-          fn(Box{{{i, std::min(i + edge, b[0][1])}, {j, std::min(j + edge, b[1][1])}, {k, std::min(k + edge, b[2][1])}}});
-  };
-  auto visit = [&](auto&& self, Worker& w, const Box& b, std::size_t level, const Tape& parent) -> void {
-    Tape& t = w.tapes[level];
-    auto range = [&](int a) {
-      return Interval{coords[a][static_cast<std::size_t>(b[a][0])], coords[a][static_cast<std::size_t>(b[a][1] - 1)]};
-    };
-    w.interval.simplify(parent, range(0), range(1), range(2), t);
-    if (level + 1 < tiles.size()) {
-      children(b, tiles[level + 1], [&](const Box& c) { self(self, w, c, level + 1, t); });
-      return;
+  std::vector<Scratch> scratch(static_cast<std::size_t>(driver.workers()));
+  struct Visitor {
+    const SampleGrid& sg;
+    const GridSpec& grid;
+    std::vector<Scratch>& scratch;
+    std::vector<float>& out;
+    bool settled(int, const IndexBox&, Interval) { return false; }
+    // A leaf: its samples in C order, evaluated in one batch and copied row by row.
+    void leaf(int wi, const Tape& t, const IndexBox& b) {
+      Scratch& w = scratch[static_cast<std::size_t>(wi)];
+      const std::size_t nz = static_cast<std::size_t>(b.extent(2));
+      const std::size_t count = static_cast<std::size_t>(b.count());
+      w.xs.resize(count), w.ys.resize(count), w.zs.resize(count), w.vs.resize(count);
+      std::size_t n = 0;
+      for (int i = b.lo[0]; i < b.hi[0]; ++i)
+        for (int j = b.lo[1]; j < b.hi[1]; ++j)
+          for (int k = b.lo[2]; k < b.hi[2]; ++k, ++n) {
+            w.xs[n] = sg.coords[0][static_cast<std::size_t>(i)];
+            w.ys[n] = sg.coords[1][static_cast<std::size_t>(j)];
+            w.zs[n] = sg.coords[2][static_cast<std::size_t>(k)];
+          }
+      w.batch.eval(t, w.xs.data(), w.ys.data(), w.zs.data(), w.vs.data(), count);
+      n = 0;
+      for (int i = b.lo[0]; i < b.hi[0]; ++i)
+        for (int j = b.lo[1]; j < b.hi[1]; ++j, n += nz) std::copy_n(w.vs.data() + n, nz, out.data() + grid.index(i, j, b.lo[2]));
     }
-    // Leaf: its samples in C order, evaluated in one batch and copied row by row.
-    const std::size_t nz = static_cast<std::size_t>(b[2][1] - b[2][0]);
-    const std::size_t count = static_cast<std::size_t>(b[0][1] - b[0][0]) * static_cast<std::size_t>(b[1][1] - b[1][0]) * nz;
-    w.xs.resize(count), w.ys.resize(count), w.zs.resize(count), w.vs.resize(count);
-    std::size_t n = 0;
-    for (int i = b[0][0]; i < b[0][1]; ++i)
-      for (int j = b[1][0]; j < b[1][1]; ++j)
-        for (int k = b[2][0]; k < b[2][1]; ++k, ++n) {
-          w.xs[n] = coords[0][static_cast<std::size_t>(i)];
-          w.ys[n] = coords[1][static_cast<std::size_t>(j)];
-          w.zs[n] = coords[2][static_cast<std::size_t>(k)];
-        }
-    w.batch.eval(t, w.xs.data(), w.ys.data(), w.zs.data(), w.vs.data(), count);
-    n = 0;
-    for (int i = b[0][0]; i < b[0][1]; ++i)
-      for (int j = b[1][0]; j < b[1][1]; ++j, n += nz) std::copy_n(w.vs.data() + n, nz, out.data() + grid.index(i, j, b[2][0]));
-  };
-  std::vector<Box> top;
-  children(Box{{{0, grid.counts[0]}, {0, grid.counts[1]}, {0, grid.counts[2]}}}, tiles[0],
-           [&](const Box& c) { top.push_back(c); });
-  pool.parallel_for(static_cast<int>(top.size()), [&](int wi, int i) {
-    visit(visit, *workers[static_cast<std::size_t>(wi)], top[static_cast<std::size_t>(i)], 0, tape);
-  });
+  } visitor{sg, grid, scratch, out};
+  driver.run(tape, sg, visitor);
   return out;
 }
 
