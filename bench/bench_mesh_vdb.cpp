@@ -1,7 +1,7 @@
 // Meshing a converted mesh: frep's dual contouring against "sample the expression on the same grid,
 // then OpenVDB's volumeToMesh", in one run. The expression is ../shared/data/meshes/armadillo_libigl.obj
-// converted by convert_mesh (not timed); the grid is the one `frep mesh armadillo.obj -r 256` uses
-// (bounds found by interval search, 256 cells across the longest side, one margin cell).
+// converted by convert_mesh (not timed); the grid is dual contouring's: 256 cells across the longest
+// side of the mesh's bounding box grown by 1% (MeshOptions::known_bounds), plus one margin cell.
 //   BM_ArmadilloDC        frep's mesher (warm Mesher), dual contouring.
 //   BM_ArmadilloVdbDense  every grid corner evaluated (the subdivision driver simplifies the tape
 //                         per 8-sample box, the batch evaluator samples all of them), copied into
@@ -25,6 +25,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -39,12 +40,20 @@
 
 namespace {
 
-constexpr int kResolution = 256;
+// Cells across; FREP_MESH_RESOLUTION overrides it (256 needs more than the 23 GB here, see docs).
+const int kResolution = [] {
+  const char* r = std::getenv("FREP_MESH_RESOLUTION");
+  return r ? std::atoi(r) : 256;
+}();
+// Subdivision tiles for both pipelines. The default ({128, 32, 8}) stores a simplified tape for
+// every open box of the two breadth-first levels at once: over 12 GB for this expression. With a
+// top level of 256, those two levels hold at most 8 + 64 boxes.
+const std::vector<int> kTiles = {256, 128, 32, 8};
 
 struct Armadillo {
   frep::Model model;
   std::unique_ptr<frep::Tape> tape;
-  frep::MeshStats stats;  // of the DC run: its grid is the one sampled
+  frep::Box3 box;         // the mesh's bounding box, grown by 1% of its longest side
   bool ok = false;
 };
 
@@ -56,7 +65,13 @@ const Armadillo& armadillo() {
     const std::string path = FREP_SOURCE_DIR "/../shared/data/meshes/armadillo_libigl.obj";
     if (!std::filesystem::exists(path)) return r;
     const double t0 = now();
-    frep::ConvertResult c = frep::convert_mesh(frep::read_mesh(path));
+    const frep::TriMesh mesh = frep::read_mesh(path);
+    frep::ConvertResult c = frep::convert_mesh(mesh);
+    r.box = frep::validate_mesh(mesh).box;
+    const frep::Vec3 e = r.box.hi - r.box.lo;
+    const double g = 0.01 * std::max({e.x, e.y, e.z});
+    r.box.lo = r.box.lo - frep::Vec3{g, g, g};
+    r.box.hi = r.box.hi + frep::Vec3{g, g, g};
     std::fprintf(stderr, "armadillo: %zu triangles converted to %zu nodes in %.2f s (not timed below)\n",
                  c.stats.triangles, c.stats.nodes, now() - t0);
     r.model = std::move(c.model);
@@ -67,9 +82,13 @@ const Armadillo& armadillo() {
   return a;
 }
 
+// Bounds known (the grown box): the interval search on a converted mesh of this size needs more
+// memory than the machine has (see docs/meshing.md).
 frep::MeshOptions dc_options() {
   frep::MeshOptions o;
   o.resolution = kResolution;
+  o.known_bounds = armadillo().box;
+  o.tiles = kTiles;
   return o;
 }
 
@@ -188,7 +207,7 @@ class Sampler {
     frep::IndexBox box;
     float sign;
   };
-  frep::Subdivider subdivider_{frep::SubdivisionOptions{{128, 32, 8}, 0, 2}};
+  frep::Subdivider subdivider_{frep::SubdivisionOptions{kTiles, 0, 2}};
   frep::SampleGrid grid_;
   int n_[3] = {0, 0, 0};
   double h_ = 0;
