@@ -47,8 +47,18 @@ const int kResolution = [] {
 }();
 // Subdivision tiles for both pipelines. The default ({128, 32, 8}) stores a simplified tape for
 // every open box of the two breadth-first levels at once: over 12 GB for this expression. With a
-// top level of 256, those two levels hold at most 8 + 64 boxes.
-const std::vector<int> kTiles = {256, 128, 32, 8};
+// top level of 256, those two levels hold at most 8 + 64 boxes. FREP_TILES=32,8 overrides it.
+const std::vector<int> kTiles = [] {
+  std::vector<int> t;
+  if (const char* e = std::getenv("FREP_TILES"))
+    for (const char* p = e; *p;) {
+      t.push_back(std::atoi(p));
+      while (*p && *p != ',') ++p;
+      if (*p == ',') ++p;
+    }
+  if (t.empty()) t = {256, 128, 32, 8};
+  return t;
+}();
 
 struct Armadillo {
   frep::Model model;
