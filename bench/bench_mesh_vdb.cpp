@@ -40,7 +40,7 @@
 
 namespace {
 
-// Cells across; FREP_MESH_RESOLUTION overrides it (256 needs more than the 23 GB here, see docs).
+// Cells across; FREP_MESH_RESOLUTION overrides it (256 ran out of the 10-12 GB allowed here: docs/meshing.md).
 const int kResolution = [] {
   const char* r = std::getenv("FREP_MESH_RESOLUTION");
   return r ? std::atoi(r) : 256;
