@@ -27,6 +27,9 @@ void register_sdf(CLI::App& app);
 void register_convert(CLI::App& app);
 void register_mesh(CLI::App& app);
 void register_export(CLI::App& app);
+void register_offset(CLI::App& app);
+void register_shell(CLI::App& app);
+void register_clearance(CLI::App& app);
 
 inline void register_commands(CLI::App& app) {
   register_info(app);
@@ -37,6 +40,9 @@ inline void register_commands(CLI::App& app) {
   register_convert(app);
   register_mesh(app);
   register_export(app);
+  register_offset(app);
+  register_shell(app);
+  register_clearance(app);
 }
 
 }  // namespace frep::cli
