@@ -363,7 +363,10 @@ Value fn_find_clearance(Interp& in, Args a, std::uint32_t pos) {
   m->depth = 2;
   m->items.emplace("value", Value::real(r.value));
   m->items.emplace("lower_bound", Value::real(r.lower_bound));
-  m->items.emplace("point", make_vec(3, r.x, r.y, r.z));
+  auto* pt = new ArrayObj();
+  Value point = Value::heap(pt);
+  for (float c : {r.x, r.y, r.z}) pt->items.push_back(Value::real(c));
+  m->items.emplace("point", point);
   m->items.emplace("boxes", Value::integer(static_cast<std::int64_t>(r.boxes)));
   return out;
 }
