@@ -135,7 +135,7 @@ TEST(UgfMesh, AChamferedBoxEdgeMeshedWithDcHasTheRequestedWidth) {
     const char* name;
   };
   for (const Size& s : {Size{ugf::Chamfer::width(0.4f), 0.4, "width 0.4"}, Size{ugf::Chamfer::setback(0.3f), 0.3 * std::sqrt(2.0), "setback 0.3"},
-                        Size{ugf::Chamfer::inset(0.1f), 0.2, "inset 0.1"}  // w = 2 h / tan(phi / 2)}) {
+                        Size{ugf::Chamfer::inset(0.1f), 0.2 /* w = 2 h / tan(phi/2) */, "inset 0.1"}}) {
     SCOPED_TRACE(s.name);
     Graph g;
     const Expr x = g.x(), y = g.y(), z = g.z();
