@@ -79,6 +79,15 @@ void check_field_output(const std::string& path) {
 Box3 input_region(const std::string& input, const Tape& tape, const FieldOutputOptions& o) {
   if (!o.bounds.empty())
     return Box3{{o.bounds[0], o.bounds[1], o.bounds[2]}, {o.bounds[3], o.bounds[4], o.bounds[5]}};
+  if (format_from_extension(input) != MeshFormat::Unknown) {
+    // A mesh: its bounding box (read again, which is quick next to converting it). The interval
+    // search on big converted meshes takes far more memory and time.
+    const TriMesh mesh = read_mesh(input);
+    Box3 box;
+    for (const Triangle& t : mesh.triangles)
+      for (std::uint32_t v : t) box.add(mesh.vertices[v]);
+    if (!box.empty()) return box;
+  }
   BoundsSearchOptions bs;
   bs.threads = o.threads;
   BoundsResult b;

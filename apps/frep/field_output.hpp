@@ -34,9 +34,8 @@ inline constexpr const char* kFieldOutputHelp =
 // extension or its directory cannot be written.
 void check_field_output(const std::string& path);
 
-// A box holding the input's inside: `bounds` if given, else found by interval search of its tape
-// (converted meshes carry their bounding box, so this finds it). InputError naming `input` if
-// the field is unbounded or empty.
+// A box holding the input's inside: `bounds` if given, a mesh file's bounding box, else found by
+// interval search of the tape. InputError naming `input` if the field is unbounded or empty.
 Box3 input_region(const std::string& input, const Tape& tape, const FieldOutputOptions& o);
 
 // Writes the field `root` of `g` to `path`: as an expression, or meshed by dual contouring with
