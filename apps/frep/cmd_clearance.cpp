@@ -50,7 +50,7 @@ void register_clearance(CLI::App& app) {
   struct Args {
     std::string a, b;
     double tolerance = 1e-4;
-    std::size_t max_boxes = 200000;
+    std::size_t max_boxes = 20000;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("A", a->a, kFieldInputHelp)->required();

@@ -22,7 +22,8 @@ namespace {
 struct Cell {
   Interval x, y, z;
   float lo;  // proven lower bound of S over the cell
-  std::shared_ptr<const Tape> tape;  // S simplified to the cell
+  std::shared_ptr<const Tape> tape;   // S simplified to the cell
+  std::shared_ptr<const Tape> point;  // the nearest of it and its ancestors' with register code
   bool operator>(const Cell& o) const { return lo > o.lo; }
 };
 
@@ -45,23 +46,28 @@ ClearanceResult find_clearance(Expr A, Expr B, Interval x, Interval y, Interval 
     if (v < res.value) res.value = v, res.x = px, res.y = py, res.z = pz;
   };
   // The cell's lower bound, and its tape: the parent's, simplified when that shrinks it by a
-  // quarter or more (smaller tapes are not worth a copy). The open cells' tapes together hold at
-  // most kBudget instructions (big tapes of a converted mesh, near the root, would otherwise fill
-  // memory); beyond it cells share their parent's.
-  constexpr std::size_t kBudget = std::size_t{1} << 22;
+  // quarter or more (smaller tapes are not worth a copy). Big tapes are kept in SSA form only
+  // (interval evaluation needs no registers; point samples use the nearest ancestor's tape that
+  // has register code, the whole tape at worst). The open cells' tapes together hold at most kBudget instructions
+  // (the big tapes of a converted mesh would otherwise fill memory); beyond it cells share their
+  // parent's.
+  constexpr std::size_t kBudget = std::size_t{1} << 23, kRegisters = 200000;
   std::size_t held = 0;
-  auto lower = [&](Cell& c, const std::shared_ptr<const Tape>& parent) {
+  auto lower = [&](Cell& c, const std::shared_ptr<const Tape>& parent, const std::shared_ptr<const Tape>& point) {
     const Interval r = iv.eval(*parent, c.x, c.y, c.z);
     ++res.boxes;
     c.tape = parent;
+    c.point = point;
     if (parent->choice_count() > 0 && parent->size() > 32 && held + parent->size() <= kBudget) {
-      auto t = std::make_unique<Tape>(parent->simplified(iv.values(), iv.choices()));
+      auto t = std::make_unique<Tape>();
+      parent->simplify(iv.values(), iv.choices(), *t, parent->size() <= kRegisters);
       if (4 * t->size() <= 3 * parent->size()) {
         held += t->size();
         c.tape = std::shared_ptr<const Tape>(t.release(), [&held](const Tape* p) {
           held -= p->size();
           delete p;
         });
+        if (!c.tape->code().empty()) c.point = c.tape;
       }
     }
     c.lo = r.is_unknown() ? -std::numeric_limits<float>::infinity() : r.lo;
@@ -77,8 +83,8 @@ ClearanceResult find_clearance(Expr A, Expr B, Interval x, Interval y, Interval 
 
   std::priority_queue<Cell, std::vector<Cell>, std::greater<>> open;
   float pruned_lo = std::numeric_limits<float>::infinity();  // smallest bound of discarded cells
-  Cell root{x, y, z, 0, nullptr};
-  lower(root, full);
+  Cell root{x, y, z, 0, nullptr, nullptr};
+  lower(root, full, full);
   open.push(root);
   while (!open.empty() && res.boxes < opt.max_boxes) {
     const Cell c = open.top();
@@ -96,8 +102,8 @@ ClearanceResult find_clearance(Expr A, Expr B, Interval x, Interval y, Interval 
         break;
       }
       (half == 0 ? side.hi : side.lo) = m;
-      lower(d, c.tape);
-      sample(mid(d.x), mid(d.y), mid(d.z), *d.tape);
+      lower(d, c.tape, c.point);
+      sample(mid(d.x), mid(d.y), mid(d.z), *d.point);
       if (d.lo < res.value - opt.tolerance) open.push(d);
       else pruned_lo = std::min(pruned_lo, d.lo);
     }
