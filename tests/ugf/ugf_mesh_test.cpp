@@ -165,5 +165,33 @@ TEST(UgfMesh, AChamferedBoxEdgeMeshedWithDcHasTheRequestedWidth) {
   }
 }
 
+// Against a sphere |p - c| - r, the minimum of A + B is exactly A(c) - r (A is 1-Lipschitz and
+// equals it at p = c): find_clearance on a converted mesh, whose boxes carry simplified tapes,
+// must find it, gap or interference.
+TEST(UgfMesh, ClearanceOfAConvertedMeshAndASphere) {
+  const TriMesh mesh = bracket();
+  const MeshDistance oracle(mesh);
+  const Box3 box = bounds_of(mesh);
+  double worst = 0;
+  for (const Vec3 c : {Vec3{0.1, 0.05, 0.45}, Vec3{0.95, 0.65, 0.3}, Vec3{-0.5, 0.2, 0.1}}) {
+    ConvertResult conv = convert_mesh(mesh);
+    Graph& g = *conv.model.graph;
+    const float r = 0.2f;
+    const Expr ball = sqrt(square(g.x() - float(c.x)) + square(g.y() - float(c.y)) + square(g.z() - float(c.z))) - r;
+    Box3 region = box;
+    region.add(Box3{c - Vec3{r, r, r}, c + Vec3{r, r, r}});
+    ugf::ClearanceOptions o;
+    o.max_boxes = 5000;
+    const ugf::ClearanceResult res =
+        ugf::find_clearance(conv.model.root_expr(), ball, {float(region.lo.x), float(region.hi.x)},
+                            {float(region.lo.y), float(region.hi.y)}, {float(region.lo.z), float(region.hi.z)}, o);
+    const double ref = oracle.signed_distance(Vec3(Vec3f(c)), SignMethod::Pseudonormal) - r;
+    EXPECT_NEAR(res.value, ref, 2e-5) << c.x << " " << c.y << " " << c.z;
+    EXPECT_LE(res.lower_bound, ref + 1e-6);
+    worst = std::max(worst, std::fabs(res.value - ref));
+  }
+  std::printf("[ugf-error] find_clearance of the converted bracket and spheres (gap and interference): max |value - (MeshDistance(c) - r)| = %.2g\n", worst);
+}
+
 }  // namespace
 }  // namespace frep
