@@ -7,7 +7,6 @@
 #include "commands.hpp"
 #include "field_output.hpp"
 #include "input.hpp"
-#include "frep/mesh/mesh_io.hpp"
 #include "frep/ugf/offset.hpp"
 
 namespace frep::cli {
@@ -50,14 +49,20 @@ void register_shell(CLI::App& app) {
     const Expr f = m.root_expr();
     const bool outward = a->side == "outward", inward = a->side == "inward";
     const Expr result = inward ? ugf::shell_inward(f, t) : outward ? ugf::shell_outward(f, t) : ugf::shell(f, t);
-    const double grow = o->bounds.empty() ? (inward ? 0.0 : outward ? a->thickness : a->thickness / 2) : 0.0;
-    const Box3 region = input_region(a->input, Tape::compile(*m.graph, m.root), *o).inflated(grow);
-    const Vec3 size = region.size();
-    const double cell = std::max({size.x, size.y, size.z}) / o->resolution;
-    if (!o->quiet && format_from_extension(a->output) != MeshFormat::Unknown && a->thickness < 2 * cell)
-      fmt::print(stderr, "frep: warning: the wall ({:.6g}) is thinner than two cells ({:.6g}); parts of it may be lost "
-                         "in the mesh: raise --resolution\n", a->thickness, cell);
-    write_field_output(a->input, a->output, *m.graph, result.id(), region, *o);
+    if (is_mesh_output(a->output)) {
+      const double grow = o->bounds.empty() ? (inward ? 0.0 : outward ? a->thickness : a->thickness / 2) : 0.0;
+      const Box3 region = input_region(a->input, Tape::compile(*m.graph, m.root), *o).inflated(grow);
+      const Vec3 size = region.size();
+      const double cell = std::max({size.x, size.y, size.z}) / o->resolution;
+      if (!o->quiet && a->thickness < 2 * cell)
+        fmt::print(stderr,
+                   "frep: warning: the wall ({:.6g}) is thinner than two cells ({:.6g}); parts of it may be lost in the "
+                   "mesh: raise --resolution\n",
+                   a->thickness, cell);
+      write_field_output(a->input, a->output, *m.graph, result.id(), region, *o);
+    } else {
+      write_field_output(a->input, a->output, *m.graph, result.id(), Box3{}, *o);
+    }
   });
 }
 

@@ -16,14 +16,14 @@
 namespace frep::cli {
 namespace {
 
-bool is_mesh_path(const std::string& path) {
-  const MeshFormat f = format_from_extension(path);
-  return f == MeshFormat::Stl || f == MeshFormat::Obj || f == MeshFormat::Ply;
-}
-
 std::string fmt_point(const Vec3& p) { return fmt::format("{:.6g}, {:.6g}, {:.6g}", p.x, p.y, p.z); }
 
 }  // namespace
+
+bool is_mesh_output(const std::string& path) {
+  const MeshFormat f = format_from_extension(path);
+  return f == MeshFormat::Stl || f == MeshFormat::Obj || f == MeshFormat::Ply;
+}
 
 void add_field_output_options(CLI::App* cmd, const std::shared_ptr<FieldOutputOptions>& o) {
   cmd->add_option("--resolution,-r", o->resolution, "Cells across the longest side of the region meshed (mesh output)")
@@ -56,7 +56,7 @@ void check_field_output_options(const FieldOutputOptions& o) {
 }
 
 void check_field_output(const std::string& path) {
-  if (!is_mesh_path(path)) {
+  if (!is_mesh_output(path)) {
     const MeshFormat f = format_from_extension(path);
     if (f != MeshFormat::Unknown)
       throw InputError(path, 0, std::string("cannot write .") + format_name(f) +
@@ -95,7 +95,7 @@ Box3 input_region(const std::string& input, const Tape& tape, const FieldOutputO
     b = find_bounds(tape, bs);
   } catch (const InputError& e) {
     if (!e.file().empty()) throw;
-    throw InputError(input, 0, e.detail() + " (give --bounds)");
+    throw InputError(input, 0, e.detail());
   }
   if (b.empty) throw InputError(input, 0, "the field is not negative anywhere: there is no solid to work on");
   return b.box;
@@ -103,7 +103,7 @@ Box3 input_region(const std::string& input, const Tape& tape, const FieldOutputO
 
 void write_field_output(const std::string& input, const std::string& path, const Graph& g, NodeId root,
                         const Box3& region, const FieldOutputOptions& o) {
-  if (!is_mesh_path(path)) {
+  if (!is_mesh_output(path)) {
     save_expression(path, g, root);
     if (!o.quiet) fmt::print("wrote {} (the expression)\n", path);
     return;

@@ -30,6 +30,9 @@ inline constexpr const char* kFieldOutputHelp =
     "Output: a mesh (.stl, .obj, .ply; meshed by dual contouring, closed and manifold) or the expression "
     "(.vm, .rhai, .frep); written atomically";
 
+// True for a mesh file name (.stl, .obj, .ply); otherwise the output is the expression.
+bool is_mesh_output(const std::string& path);
+
 // Fails (InputError naming the file) before any long work if the name has no supported
 // extension or its directory cannot be written.
 void check_field_output(const std::string& path);
