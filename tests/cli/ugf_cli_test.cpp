@@ -139,9 +139,10 @@ TEST_F(UgfCommands, ShellIsHollowInwardByDefault) {
   EXPECT_NEAR(inner, 0.7, 0.01);
   EXPECT_EQ(r.err.find("thinner"), std::string::npos) << r.err;
   // A wall thinner than two cells: a warning (the mesh is still a valid solid).
-  r = run("shell '" + cube_ + "' 0.05 -o '" + path("thin.stl") + "' -r 32");
+  r = run("shell '" + cube_ + "' 0.1 -o '" + path("thin.stl") + "' -r 32");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("thinner than two cells"), std::string::npos) << r.err;
+  EXPECT_TRUE(validate_mesh(read_mesh(path("thin.stl"))).is_solid());
   // Outward: the wall from 1.0 to 1.3; centred: 0.85 to 1.15.
   r = run("shell '" + cube_ + "' 0.3 --side outward -o '" + path("out.stl") + "' -r 32 -q");
   ASSERT_EQ(r.code, 0) << r.err;
