@@ -180,6 +180,11 @@ TEST(RhaiUgf, BadArgumentsAreErrorsThatSaySo) {
   EXPECT_TRUE(fails_at("gyroid_sheet(1, 0.1, \"exact\")", 1, 1, "\"sampson\" or \"bound\""));
   EXPECT_TRUE(fails_at("intersect(track_plane(x), y)", 1, 1, "needs two tracked fields"));
   EXPECT_TRUE(fails_at("find_clearance(x, y, [1, 0, 0], [0, 1, 1])", 1, 1, "the region is empty"));
+  // Nested in a loop, operations that differentiate their arguments grow the graph geometrically:
+  // the node and step limits stop the script with an error instead of running out of memory.
+  RhaiOptions limited;
+  limited.max_nodes = 100000;
+  EXPECT_TRUE(fails_at("let a = x * x + y - 1.0; for i in 0..40 { a = normalize(a); } a", 1, 57, "expression nodes", limited));
   // A script's own function of the same name still wins (Rhai's lookup order).
   const Model m = run_rhai("fn offset(a, b) { a + b } offset(x, 2)");
   EXPECT_EQ(test::eval_graph<float>(*m.graph, m.root, 1.f, 0.f, 0.f), 3.f);
