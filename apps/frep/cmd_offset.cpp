@@ -15,7 +15,7 @@ void register_offset(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "offset",
       "Grow (DIST > 0) or shrink (DIST < 0) a solid by a distance: F - DIST. Exact outside for a signed "
-      "distance such as a converted mesh; corners grow round. A negative DIST may need `--` before it.");
+      "distance such as a converted mesh; corners grow round.");
   struct Args {
     std::string input, output;
     double distance = 0;

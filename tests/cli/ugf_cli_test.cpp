@@ -90,7 +90,10 @@ TEST_F(UgfCommands, OffsetMeshesAndSaves) {
   // The grown ball of radius 0.85 fits the bounds grown by the offset (no caps), to a fraction of a cell.
   EXPECT_EQ(r.out.find("cut there"), std::string::npos) << r.out;
   EXPECT_LT(radius_error(m, {0.1, 0, 0}, 0.85), 0.01);
-  // Negative offsets after `--`; and `frep check` accepts the output.
+  // Negative offsets (also after `--`); and `frep check` accepts the output.
+  r = run("offset '" + ball_ + "' -0.2 -o '" + path("shrunk.obj") + "' -r 30");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_LT(radius_error(read_mesh(path("shrunk.obj")), {0.1, 0, 0}, 0.4), 0.01);
   r = run("offset '" + ball_ + "' -o '" + path("shrunk.ply") + "' -r 30 -- -0.2");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_LT(radius_error(read_mesh(path("shrunk.ply")), {0.1, 0, 0}, 0.4), 0.01);
