@@ -28,6 +28,9 @@ void register_convert(CLI::App& app);
 void register_mesh(CLI::App& app);
 void register_export(CLI::App& app);
 void register_sample(CLI::App& app);
+void register_offset(CLI::App& app);
+void register_shell(CLI::App& app);
+void register_clearance(CLI::App& app);
 
 inline void register_commands(CLI::App& app) {
   register_info(app);
@@ -39,6 +42,9 @@ inline void register_commands(CLI::App& app) {
   register_mesh(app);
   register_export(app);
   register_sample(app);
+  register_offset(app);
+  register_shell(app);
+  register_clearance(app);
 }
 
 }  // namespace frep::cli

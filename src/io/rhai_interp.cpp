@@ -62,6 +62,7 @@ Interp::Interp(std::string_view text, const std::string& name, const RhaiOptions
   };
   for (const Builtin& b : core_builtins()) reg(b);
   for (const Builtin& b : shape_builtins()) reg(b);
+  for (const Builtin& b : ugf_builtins()) reg(b);
   auto special = [&](std::string_view n, int code) {
     const std::uint32_t s = symbols_.intern(n);
     if (special_of_.size() <= s) special_of_.resize(s + 1, 0);

@@ -40,6 +40,7 @@ struct Builtin {
 };
 std::span<const Builtin> core_builtins();   // rhai_builtins.cpp
 std::span<const Builtin> shape_builtins();  // rhai_shapes.cpp
+std::span<const Builtin> ugf_builtins();    // rhai_ugf.cpp: the unit gradient field library
 
 // An affine map p -> M p + t, rows of [M | t]. Fidget composes chains of affine transforms into
 // one matrix (in f64) before building the expression; so does this reader.

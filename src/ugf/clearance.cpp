@@ -1,10 +1,13 @@
 // Clearance measurement (clearance.hpp): best-first interval branch and bound on S = A + B, then
-// a gradient-descent polish of the best point found.
+// a gradient-descent polish of the best point found. Each box carries the tape simplified to it
+// (shared with its parent unless simplifying shrinks it), so that near the bodies only the few
+// nearby terms of a converted mesh are evaluated.
 #include "frep/ugf/clearance.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <queue>
 #include <vector>
 
@@ -19,6 +22,8 @@ namespace {
 struct Cell {
   Interval x, y, z;
   float lo;  // proven lower bound of S over the cell
+  std::shared_ptr<const Tape> tape;   // S simplified to the cell
+  std::shared_ptr<const Tape> point;  // the nearest of it and its ancestors' with register code
   bool operator>(const Cell& o) const { return lo > o.lo; }
 };
 
@@ -29,20 +34,43 @@ float mid(Interval i) { return i.lo + 0.5f * (i.hi - i.lo); }
 ClearanceResult find_clearance(Expr A, Expr B, Interval x, Interval y, Interval z, const ClearanceOptions& opt) {
   FREP_ASSERT(x.lo <= x.hi && y.lo <= y.hi && z.lo <= z.hi, "empty region");
   Graph& g = A.graph();
-  const Tape tape = Tape::compile(g, clearance_field(A, B).id());
+  const auto full = std::make_shared<const Tape>(Tape::compile(g, clearance_field(A, B).id()));
+  const Tape& tape = *full;
   IntervalEvaluator iv;
   PointEvaluator pe;
   ClearanceResult res;
   res.value = std::numeric_limits<float>::infinity();
 
-  auto sample = [&](float px, float py, float pz) {
-    const float v = pe.eval(tape, px, py, pz);
+  auto sample = [&](float px, float py, float pz, const Tape& t) {
+    const float v = pe.eval(t, px, py, pz);
     if (v < res.value) res.value = v, res.x = px, res.y = py, res.z = pz;
   };
-  auto lower = [&](Interval cx, Interval cy, Interval cz) {
-    const Interval r = iv.eval(tape, cx, cy, cz);
+  // The cell's lower bound, and its tape: the parent's, simplified when that shrinks it by a
+  // quarter or more (smaller tapes are not worth a copy). Big tapes are kept in SSA form only
+  // (interval evaluation needs no registers; point samples use the nearest ancestor's tape that
+  // has register code, the whole tape at worst). The open cells' tapes together hold at most kBudget instructions
+  // (the big tapes of a converted mesh would otherwise fill memory); beyond it cells share their
+  // parent's.
+  constexpr std::size_t kBudget = std::size_t{1} << 23, kRegisters = 200000;
+  std::size_t held = 0;
+  auto lower = [&](Cell& c, const std::shared_ptr<const Tape>& parent, const std::shared_ptr<const Tape>& point) {
+    const Interval r = iv.eval(*parent, c.x, c.y, c.z);
     ++res.boxes;
-    return r.is_unknown() ? -std::numeric_limits<float>::infinity() : r.lo;
+    c.tape = parent;
+    c.point = point;
+    if (parent->choice_count() > 0 && parent->size() > 32 && held + parent->size() <= kBudget) {
+      auto t = std::make_unique<Tape>();
+      parent->simplify(iv.values(), iv.choices(), *t, parent->size() <= kRegisters);
+      if (4 * t->size() <= 3 * parent->size()) {
+        held += t->size();
+        c.tape = std::shared_ptr<const Tape>(t.release(), [&held](const Tape* p) {
+          held -= p->size();
+          delete p;
+        });
+        if (!c.tape->code().empty()) c.point = c.tape;
+      }
+    }
+    c.lo = r.is_unknown() ? -std::numeric_limits<float>::infinity() : r.lo;
   };
 
   // A coarse grid first, so that pruning starts with a good upper bound.
@@ -51,11 +79,13 @@ ClearanceResult find_clearance(Expr A, Expr B, Interval x, Interval y, Interval 
     for (int j = 0; j < kGrid; ++j)
       for (int k = 0; k < kGrid; ++k)
         sample(x.lo + (x.hi - x.lo) * (i + 0.5f) / kGrid, y.lo + (y.hi - y.lo) * (j + 0.5f) / kGrid,
-               z.lo + (z.hi - z.lo) * (k + 0.5f) / kGrid);
+               z.lo + (z.hi - z.lo) * (k + 0.5f) / kGrid, tape);
 
   std::priority_queue<Cell, std::vector<Cell>, std::greater<>> open;
   float pruned_lo = std::numeric_limits<float>::infinity();  // smallest bound of discarded cells
-  open.push({x, y, z, lower(x, y, z)});
+  Cell root{x, y, z, 0, nullptr, nullptr};
+  lower(root, full, full);
+  open.push(root);
   while (!open.empty() && res.boxes < opt.max_boxes) {
     const Cell c = open.top();
     if (c.lo >= res.value - opt.tolerance) break;  // every remaining cell is at least this
@@ -72,8 +102,8 @@ ClearanceResult find_clearance(Expr A, Expr B, Interval x, Interval y, Interval 
         break;
       }
       (half == 0 ? side.hi : side.lo) = m;
-      d.lo = lower(d.x, d.y, d.z);
-      sample(mid(d.x), mid(d.y), mid(d.z));
+      lower(d, c.tape, c.point);
+      sample(mid(d.x), mid(d.y), mid(d.z), *d.point);
       if (d.lo < res.value - opt.tolerance) open.push(d);
       else pruned_lo = std::min(pruned_lo, d.lo);
     }
@@ -90,7 +120,7 @@ ClearanceResult find_clearance(Expr A, Expr B, Interval x, Interval y, Interval 
     const float py = std::clamp(res.y - step * gr.dy / n, y.lo, y.hi);
     const float pz = std::clamp(res.z - step * gr.dz / n, z.lo, z.hi);
     const float before = res.value;
-    sample(px, py, pz);
+    sample(px, py, pz, tape);
     step *= res.value < before ? 1.5f : 0.5f;
   }
 

@@ -1,0 +1,69 @@
+// frep shell: a solid hollowed into a wall of constant thickness (for printing: inward by
+// default), from an expression or a converted mesh; meshed or saved as an expression.
+#include <fmt/core.h>
+
+#include <cmath>
+
+#include "commands.hpp"
+#include "field_output.hpp"
+#include "input.hpp"
+#include "frep/ugf/offset.hpp"
+
+namespace frep::cli {
+
+void register_shell(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "shell",
+      "Hollow a solid into a wall of thickness T: inside the surface (default, the outer shape is kept), outside "
+      "it, or centred on it. Exact where offsets of the input are (a converted mesh: outside; inside away from "
+      "its medial axis).");
+  struct Args {
+    std::string input, output, side = "inward";
+    double thickness = 0;
+  };
+  auto a = std::make_shared<Args>();
+  auto o = std::make_shared<FieldOutputOptions>();
+  cmd->add_option("INPUT", a->input, kFieldInputHelp)->required();
+  cmd->add_option("THICKNESS", a->thickness, "Wall thickness, in the input's units (> 0)")
+      ->required()
+      ->check(CLI::Validator(
+          [](std::string& s) -> std::string {
+            double v = 0;
+            if (!CLI::detail::lexical_cast(s, v) || !std::isfinite(v) || !(v > 0))
+              return "the thickness must be a finite number > 0, got " + s;
+            return {};
+          },
+          "T > 0"));
+  cmd->add_option("-o,--output", a->output, kFieldOutputHelp)->required();
+  cmd->add_option("--side", a->side,
+                  "Where the wall goes: inward (max(F, -F - T), hollowing), outward (max(-F, F - T)) or centred "
+                  "(|F| - T/2)")
+      ->check(CLI::IsMember({"inward", "outward", "centred", "centered"}))
+      ->capture_default_str();
+  add_field_output_options(cmd, o);
+  cmd->callback([a, o] {
+    check_field_output_options(*o);
+    check_field_output(a->output);
+    Model m = load_input(a->input);
+    const float t = static_cast<float>(a->thickness);
+    const Expr f = m.root_expr();
+    const bool outward = a->side == "outward", inward = a->side == "inward";
+    const Expr result = inward ? ugf::shell_inward(f, t) : outward ? ugf::shell_outward(f, t) : ugf::shell(f, t);
+    if (is_mesh_output(a->output)) {
+      const double grow = o->bounds.empty() ? (inward ? 0.0 : outward ? a->thickness : a->thickness / 2) : 0.0;
+      const Box3 region = input_region(a->input, Tape::compile(*m.graph, m.root), *o).inflated(grow);
+      const Vec3 size = region.size();
+      const double cell = std::max({size.x, size.y, size.z}) / o->resolution;
+      if (!o->quiet && a->thickness < 2 * cell)
+        fmt::print(stderr,
+                   "frep: warning: the wall ({:.6g}) is thinner than two cells ({:.6g}); parts of it may be lost in the "
+                   "mesh: raise --resolution\n",
+                   a->thickness, cell);
+      write_field_output(a->input, a->output, *m.graph, result.id(), region, *o);
+    } else {
+      write_field_output(a->input, a->output, *m.graph, result.id(), Box3{}, *o);
+    }
+  });
+}
+
+}  // namespace frep::cli

@@ -1,0 +1,141 @@
+// Output of the field-transforming commands (field_output.hpp).
+#include "field_output.hpp"
+
+#include <fmt/core.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "frep/contour/bounds.hpp"
+#include "frep/contour/mesher.hpp"
+#include "frep/error.hpp"
+#include "frep/io/save.hpp"
+#include "frep/mesh/mesh_io.hpp"
+
+namespace frep::cli {
+namespace {
+
+std::string fmt_point(const Vec3& p) { return fmt::format("{:.6g}, {:.6g}, {:.6g}", p.x, p.y, p.z); }
+
+}  // namespace
+
+bool is_mesh_output(const std::string& path) {
+  const MeshFormat f = format_from_extension(path);
+  return f == MeshFormat::Stl || f == MeshFormat::Obj || f == MeshFormat::Ply;
+}
+
+void add_field_output_options(CLI::App* cmd, const std::shared_ptr<FieldOutputOptions>& o) {
+  cmd->add_option("--resolution,-r", o->resolution, "Cells across the longest side of the region meshed (mesh output)")
+      ->check(CLI::Validator(
+          [](std::string& s) -> std::string {
+            int v = 0;
+            if (!CLI::detail::lexical_cast(s, v) || v < 1 || v > kMaxMeshResolution)
+              return "the resolution must be a whole number from 1 to " + std::to_string(kMaxMeshResolution) +
+                     " (cells along an axis), got " + s;
+            return {};
+          },
+          "1.." + std::to_string(kMaxMeshResolution)))
+      ->capture_default_str();
+  cmd->add_option("--bounds", o->bounds,
+                  "Region to mesh, x0,y0,z0,x1,y1,z1 (default: the input's bounding box grown by what the operation "
+                  "adds; a shape reaching given bounds is cut and closed there)")
+      ->delimiter(',')
+      ->expected(6);
+  cmd->add_option("--threads,-j", o->threads, "Worker threads (0 = all cores)")->capture_default_str()->check(CLI::Range(0, 1024));
+  cmd->add_flag("--quiet,-q", o->quiet, "Print nothing but errors");
+}
+
+void check_field_output_options(const FieldOutputOptions& o) {
+  if (o.bounds.empty()) return;
+  for (double v : o.bounds)
+    if (!std::isfinite(v)) throw CLI::ValidationError("--bounds", "the bounds must be finite numbers");
+  for (int i = 0; i < 3; ++i)
+    if (!(o.bounds[static_cast<std::size_t>(i)] < o.bounds[static_cast<std::size_t>(i) + 3]))
+      throw CLI::ValidationError("--bounds", fmt::format("the bounds are empty along {}: need {}0 < {}1", "xyz"[i], "xyz"[i], "xyz"[i]));
+}
+
+void check_field_output(const std::string& path) {
+  if (!is_mesh_output(path)) {
+    const MeshFormat f = format_from_extension(path);
+    if (f != MeshFormat::Unknown)
+      throw InputError(path, 0, std::string("cannot write .") + format_name(f) +
+                                    ": the output is a mesh (.stl, .obj, .ply) or an expression (.vm, .rhai, .frep)");
+    try {
+      check_expression_path(path);
+    } catch (const InputError&) {
+      throw InputError(path, 0, "unknown output format: use .stl, .obj or .ply (a mesh) or .vm, .rhai or .frep (the expression)");
+    }
+  }
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
+    throw InputError(path, 0, "cannot write: directory " + parent.string() + " does not exist");
+  if (::access(parent.empty() ? "." : parent.c_str(), W_OK) != 0)
+    throw InputError(path, 0, "cannot write: directory " + (parent.empty() ? std::string(".") : parent.string()) +
+                                  " is not writable");
+}
+
+Box3 input_region(const std::string& input, const Tape& tape, const FieldOutputOptions& o) {
+  if (!o.bounds.empty())
+    return Box3{{o.bounds[0], o.bounds[1], o.bounds[2]}, {o.bounds[3], o.bounds[4], o.bounds[5]}};
+  if (format_from_extension(input) != MeshFormat::Unknown) {
+    // A mesh: its bounding box (read again, which is quick next to converting it). The interval
+    // search on big converted meshes takes far more memory and time.
+    const TriMesh mesh = read_mesh(input);
+    Box3 box;
+    for (const Triangle& t : mesh.triangles)
+      for (std::uint32_t v : t) box.add(mesh.vertices[v]);
+    if (!box.empty()) return box;
+  }
+  BoundsSearchOptions bs;
+  bs.threads = o.threads;
+  BoundsResult b;
+  try {
+    b = find_bounds(tape, bs);
+  } catch (const InputError& e) {
+    if (!e.file().empty()) throw;
+    throw InputError(input, 0, e.detail());
+  }
+  if (b.empty) throw InputError(input, 0, "the field is not negative anywhere: there is no solid to work on");
+  return b.box;
+}
+
+void write_field_output(const std::string& input, const std::string& path, const Graph& g, NodeId root,
+                        const Box3& region, const FieldOutputOptions& o) {
+  if (!is_mesh_output(path)) {
+    save_expression(path, g, root);
+    if (!o.quiet) fmt::print("wrote {} (the expression)\n", path);
+    return;
+  }
+  MeshOptions mo;
+  mo.method = MeshMethod::DualContouring;
+  mo.resolution = o.resolution;
+  mo.threads = o.threads;
+  if (!o.bounds.empty())
+    mo.bounds = region;  // exactly as given: cut and capped where the shape reaches it
+  else
+    mo.known_bounds = region;
+  MeshStats st;
+  TriMesh mesh;
+  try {
+    mesh = mesh_expression(Tape::compile(g, root), mo, &st);
+  } catch (const InputError& e) {
+    if (!e.file().empty()) throw;
+    throw InputError(input, 0, e.detail());
+  }
+  if (mesh.triangles.empty())
+    throw InputError(input, 0,
+                     "the result is empty: no sample of the grid is inside it (the operation removed everything, "
+                     "or it is thinner than a cell: try a finer --resolution)");
+  write_mesh(path, mesh);
+  if (!o.quiet) {
+    fmt::print("grid: {} x {} x {} cells of {:.6g} over {} .. {}\n", st.cells[0], st.cells[1], st.cells[2],
+               st.cell_size, fmt_point(st.bounds.lo), fmt_point(st.bounds.hi));
+    if (st.capped) fmt::print("note: the shape reaches the bounds; it is cut there and closed with flat caps\n");
+    fmt::print("mesh: {} triangles, {} vertices (dual contouring)\n", mesh.triangles.size(), mesh.vertices.size());
+    fmt::print("wrote {}\n", path);
+  }
+}
+
+}  // namespace frep::cli

@@ -1,0 +1,50 @@
+// The output of the commands that transform a field (frep offset, frep shell): a mesh of the
+// result (dual contouring over a known region) or the result's expression, by the file name.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "frep/eval/tape.hpp"
+#include "frep/expr/graph.hpp"
+#include "frep/math/vec.hpp"
+
+namespace frep::cli {
+
+struct FieldOutputOptions {
+  int resolution = 128;        // cells across the longest side of the region
+  std::vector<double> bounds;  // x0,y0,z0,x1,y1,z1 given on the command line, or empty
+  int threads = 0;
+  bool quiet = false;
+};
+
+// Adds --resolution, --bounds, --threads and --quiet, stored in `o` (which must outlive parsing).
+void add_field_output_options(CLI::App* cmd, const std::shared_ptr<FieldOutputOptions>& o);
+// Checks what CLI11 cannot (finite, non-empty bounds); throws CLI::ValidationError.
+void check_field_output_options(const FieldOutputOptions& o);
+
+// Help text for the -o option.
+inline constexpr const char* kFieldOutputHelp =
+    "Output: a mesh (.stl, .obj, .ply; meshed by dual contouring, closed and manifold) or the expression "
+    "(.vm, .rhai, .frep); written atomically";
+
+// True for a mesh file name (.stl, .obj, .ply); otherwise the output is the expression.
+bool is_mesh_output(const std::string& path);
+
+// Fails (InputError naming the file) before any long work if the name has no supported
+// extension or its directory cannot be written.
+void check_field_output(const std::string& path);
+
+// A box holding the input's inside: `bounds` if given, a mesh file's bounding box, else found by
+// interval search of the tape. InputError naming `input` if the field is unbounded or empty.
+Box3 input_region(const std::string& input, const Tape& tape, const FieldOutputOptions& o);
+
+// Writes the field `root` of `g` to `path`: as an expression, or meshed by dual contouring with
+// `region` as the known box of its inside (one extra cell on every side), or over the given
+// --bounds exactly (cut and capped there). InputError naming `input` when the result is empty.
+void write_field_output(const std::string& input, const std::string& path, const Graph& g, NodeId root,
+                        const Box3& region, const FieldOutputOptions& o);
+
+}  // namespace frep::cli

@@ -1,0 +1,219 @@
+// End-to-end tests of `frep offset`, `frep shell` and `frep clearance`: run the built binary on
+// expression files and on a mesh, check the meshes written (closed and manifold, at the right
+// distance), the expressions written (equal to the library's), the clearance printed against
+// the exact gap, and the errors (exit 1 naming the file for bad input, 2 for a bad command line).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "frep/expr/expr.hpp"
+#include "frep/io/load.hpp"
+#include "frep/io/vm.hpp"
+#include "frep/mesh/mesh_io.hpp"
+#include "frep/mesh/validate.hpp"
+#include "frep/ugf/offset.hpp"
+#include "mesh_test_util.hpp"
+#include "test_util.hpp"
+
+namespace frep {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+class UgfCommands : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("frep_ugf_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    ball_ = path("ball.vm");
+    Graph g;
+    save_vm(ball_, g, (sqrt(square(g.x() - 0.1f) + square(g.y()) + square(g.z())) - 0.6f).id());
+    Graph h;
+    ball2_ = path("ball2.vm");  // radius 0.3 at x = 1.2: a gap of 1.1 - 0.9 = 0.2 to ball
+    save_vm(ball2_, h, (sqrt(square(h.x() - 1.2f) + square(h.y()) + square(h.z())) - 0.3f).id());
+    Graph k;
+    ball3_ = path("ball3.vm");  // radius 0.4 at x = 0.9: overlaps ball by 0.6 + 0.4 - 0.8 = 0.2
+    save_vm(ball3_, k, (sqrt(square(k.x() - 0.9f) + square(k.y()) + square(k.z())) - 0.4f).id());
+    cube_ = path("cube.obj");
+    write_mesh(cube_, test::make_box());
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  CliRun run(const std::string& args) {
+    const std::string out = path("stdout.txt"), err = path("stderr.txt");
+    const std::string cmd = std::string("'") + FREP_CLI_PATH + "' " + args + " >'" + out + "' 2>'" + err + "'";
+    const int status = std::system(cmd.c_str());
+    CliRun r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
+  }
+
+  fs::path dir_;
+  std::string ball_, ball2_, ball3_, cube_;
+};
+
+double radius_error(const TriMesh& m, Vec3 c, double r) {
+  double worst = 0;
+  for (const Vec3& v : m.vertices) worst = std::max(worst, std::fabs(length(v - c) - r));
+  return worst;
+}
+
+TEST_F(UgfCommands, OffsetMeshesAndSaves) {
+  const std::string out = path("grown.stl");
+  CliRun r = run("offset '" + ball_ + "' 0.25 -o '" + out + "' -r 40");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const TriMesh m = read_mesh(out);
+  const ValidationReport v = validate_mesh(m);
+  EXPECT_TRUE(v.is_solid()) << v.summary();
+  // The grown ball of radius 0.85 fits the bounds grown by the offset (no caps), to a fraction of a cell.
+  EXPECT_EQ(r.out.find("cut there"), std::string::npos) << r.out;
+  EXPECT_LT(radius_error(m, {0.1, 0, 0}, 0.85), 0.01);
+  // Negative offsets (also after `--`); and `frep check` accepts the output.
+  r = run("offset '" + ball_ + "' -0.2 -o '" + path("shrunk.obj") + "' -r 30");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_LT(radius_error(read_mesh(path("shrunk.obj")), {0.1, 0, 0}, 0.4), 0.01);
+  r = run("offset '" + ball_ + "' -o '" + path("shrunk.ply") + "' -r 30 -- -0.2");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_LT(radius_error(read_mesh(path("shrunk.ply")), {0.1, 0, 0}, 0.4), 0.01);
+  EXPECT_EQ(run("check '" + path("shrunk.ply") + "'").code, 0);
+  // Expression output: the library's field.
+  r = run("offset '" + ball_ + "' 0.25 -o '" + path("grown.rhai") + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Model saved = load_expression(path("grown.rhai"));
+  const Model in = load_expression(ball_);
+  const Expr ref = ugf::offset(in.root_expr(), 0.25f);
+  for (float px : {-1.f, 0.f, 0.3f, 0.95f, 2.f})
+    EXPECT_EQ(test::eval_graph<float>(*saved.graph, saved.root, px, 0.1f, 0.2f),
+              test::eval_graph<float>(*in.graph, ref.id(), px, 0.1f, 0.2f));
+}
+
+TEST_F(UgfCommands, OffsetOfAMeshIsRoundedAndClosed) {
+  const std::string out = path("cube_grown.obj");
+  const CliRun r = run("offset '" + cube_ + "' 0.2 -o '" + out + "' -r 30 -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  const TriMesh m = read_mesh(out);
+  EXPECT_TRUE(validate_mesh(m).is_solid());
+  // Every vertex lies at distance 0.2 from the cube (faces flat, edges and corners round).
+  double worst = 0;
+  for (const Vec3& v : m.vertices) {
+    const Vec3 q{std::max(std::fabs(v.x) - 1, 0.0), std::max(std::fabs(v.y) - 1, 0.0), std::max(std::fabs(v.z) - 1, 0.0)};
+    worst = std::max(worst, std::fabs(length(q) - 0.2));
+  }
+  EXPECT_LT(worst, 0.01);
+}
+
+TEST_F(UgfCommands, ShellIsHollowInwardByDefault) {
+  const std::string out = path("hollow.stl");
+  CliRun r = run("shell '" + cube_ + "' 0.3 -o '" + out + "' -r 32");
+  ASSERT_EQ(r.code, 0) << r.err;
+  TriMesh m = read_mesh(out);
+  ValidationReport v = validate_mesh(m);
+  EXPECT_TRUE(v.is_solid()) << v.summary();
+  // Two shells: the outer cube and the inner one of side 1.4, facing in.
+  double outer = 0, inner = 0;
+  for (const Vec3& p : m.vertices) {
+    const double c = std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+    (c > 0.85 ? outer : inner) = std::max(c > 0.85 ? outer : inner, c);
+  }
+  EXPECT_NEAR(outer, 1.0, 0.01);
+  EXPECT_NEAR(inner, 0.7, 0.01);
+  EXPECT_EQ(r.err.find("thinner"), std::string::npos) << r.err;
+  // A wall thinner than two cells: a warning (the mesh is still a valid solid).
+  r = run("shell '" + cube_ + "' 0.1 -o '" + path("thin.stl") + "' -r 32");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("thinner than two cells"), std::string::npos) << r.err;
+  EXPECT_TRUE(validate_mesh(read_mesh(path("thin.stl"))).is_solid());
+  // Outward: the wall from 1.0 to 1.3; centred: 0.85 to 1.15.
+  r = run("shell '" + cube_ + "' 0.3 --side outward -o '" + path("out.stl") + "' -r 32 -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  m = read_mesh(path("out.stl"));
+  EXPECT_TRUE(validate_mesh(m).is_solid());
+  double far = 0;
+  for (const Vec3& p : m.vertices) far = std::max(far, std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)}));
+  EXPECT_NEAR(far, 1.3, 0.01);
+  r = run("shell '" + ball_ + "' 0.2 --side centred -o '" + path("c.vm") + "' -q");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Model c = load_expression(path("c.vm"));
+  EXPECT_NEAR(test::eval_graph<float>(*c.graph, c.root, 0.1f + 0.6f, 0.f, 0.f), -0.1f, 1e-6f);
+  EXPECT_NEAR(test::eval_graph<float>(*c.graph, c.root, 0.1f, 0.f, 0.f), 0.5f, 1e-6f);
+}
+
+TEST_F(UgfCommands, ClearancePrintsTheGapOrTheInterference) {
+  CliRun r = run("clearance '" + ball_ + "' '" + ball2_ + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  float gap = 0;
+  ASSERT_EQ(std::sscanf(r.out.c_str(), "gap: %f", &gap), 1) << r.out;
+  EXPECT_NEAR(gap, 0.2f, 1e-5f);
+  // The nearest points are (0.7, 0, 0) on ball and (0.9, 0, 0) on ball2.
+  EXPECT_NE(r.out.find("nearest points: 0.7, "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(", 0.9, "), std::string::npos) << r.out;
+  r = run("clearance '" + ball_ + "' '" + ball3_ + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  float depth = 0;
+  ASSERT_EQ(std::sscanf(r.out.c_str(), "interference: depth %f", &depth), 1) << r.out;
+  EXPECT_NEAR(depth, 0.2f, 1e-5f);
+  // A mesh against an expression: the cube [-1, 1]^3 and ball2 moved to x = 1.2 is 1.2 - 0.3 - 1 away... overlapping by 0.1.
+  r = run("clearance '" + cube_ + "' '" + ball2_ + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(std::sscanf(r.out.c_str(), "interference: depth %f", &depth), 1) << r.out;
+  EXPECT_NEAR(depth, 0.1f, 1e-4f);
+}
+
+TEST_F(UgfCommands, ErrorsNameTheFileAndUseTheExitCodes) {
+  // Bad input: exit 1, the file named.
+  CliRun r = run("offset '" + path("missing.stl") + "' 0.1 -o '" + path("o.stl") + "'");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("missing.stl"), std::string::npos) << r.err;
+  r = run("offset '" + ball_ + "' 0.1 -o '" + path("o.png") + "'");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("o.png"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(".stl"), std::string::npos) << r.err;
+  r = run("shell '" + ball_ + "' 0.1 -o '" + path("nodir/o.stl") + "'");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
+  r = run("offset '" + ball_ + "' -2 -o '" + path("gone.stl") + "'");  // shrinks to nothing
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("empty"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("gone.stl")));
+  r = run("clearance '" + ball_ + "' '" + path("nothing.vm") + "'");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("nothing.vm"), std::string::npos) << r.err;
+  // Bad command lines: exit 2.
+  EXPECT_EQ(run("shell '" + ball_ + "' 0 -o '" + path("o.stl") + "'").code, 2);
+  EXPECT_EQ(run("shell '" + ball_ + "' 0.1 --side sideways -o '" + path("o.stl") + "'").code, 2);
+  EXPECT_EQ(run("offset '" + ball_ + "' 0.1").code, 2);
+  EXPECT_EQ(run("offset '" + ball_ + "' nan -o '" + path("o.stl") + "'").code, 2);
+  EXPECT_EQ(run("offset '" + ball_ + "' 0.1 -o '" + path("o.stl") + "' --bounds 1,1,1,0,2,2").code, 2);
+  EXPECT_EQ(run("clearance '" + ball_ + "'").code, 2);
+  for (const char* sub : {"offset", "shell", "clearance"}) {
+    r = run(std::string(sub) + " --help");
+    EXPECT_EQ(r.code, 0) << sub;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
+  }
+}
+
+}  // namespace
+}  // namespace frep
