@@ -23,6 +23,7 @@
 #include "frep/io/atomic_file.hpp"
 #include "frep/io/frep_file.hpp"
 #include "frep/io/load.hpp"
+#include "frep/io/npy.hpp"
 #include "frep/io/points.hpp"
 #include "frep/io/rhai.hpp"
 #include "frep/io/save.hpp"
@@ -44,6 +45,10 @@
 #include "frep/render/slice.hpp"
 
 #include "frep/convert/convert.hpp"
+
+#include "frep/sample/grid.hpp"
+#include "frep/sample/mesh_field.hpp"
+#include "frep/sample/points.hpp"
 
 #include "frep/contour/bounds.hpp"
 #include "frep/contour/cell_topology.hpp"

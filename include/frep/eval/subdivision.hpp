@@ -59,7 +59,7 @@ struct SubdivisionOptions {
   int threads = 0;                         // worker threads; 0 = all hardware threads
   int breadth_first_levels = 2;            // levels expanded breadth first to make parallel work; 0: none,
                                            // the first level's boxes run in parallel, each from the whole
-                                           // tape (least memory: for huge tapes where few boxes settle)
+                                           // tape (least memory; always so for tapes of 2^18 instructions and more)
 };
 
 // Reusable: keeps the pool, per-worker evaluators and tape storage between runs.
@@ -209,7 +209,9 @@ void Subdivider::run(const Tape& tape, const SampleGrid& grid, const IndexBox& r
           [&](const Item& child) { self(self, wi, child, level + 1); });
   };
 
-  if (options_.breadth_first_levels <= 0) {
+  // Big tapes (converted meshes) never go breadth first: a frontier would keep a simplified
+  // tape of up to millions of instructions for every open box of its levels.
+  if (options_.breadth_first_levels <= 0 || tape.size() >= kBigTape) {
     // Every first-level box on its own: split() over a parent that is the box itself.
     std::vector<IndexBox> top;
     const int step = options_.tiles[0];
