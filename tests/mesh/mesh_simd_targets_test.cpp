@@ -42,8 +42,9 @@ TEST(MeshSimdTargets, ClosestPointAndWindingNumberOnEveryTarget) {
       for (const Vec3& p : pts) {
         ASSERT_NEAR(md.unsigned_distance(p), brute_unsigned(*m, p), 1e-12);
         ASSERT_NEAR(md.winding_number(p), md.winding_number_exact(p), 0.06);  // dipole far field (documented)
-        if (std::fabs(md.winding_number_exact(p) - 0.5) > 0.1)
+        if (std::fabs(md.winding_number_exact(p) - 0.5) > 0.1) {
           ASSERT_EQ(md.signed_distance(p, SignMethod::WindingNumber) < 0, md.winding_number_exact(p) > 0.5);
+        }
       }
     }
   });
