@@ -1,7 +1,7 @@
 // The subdivision driver: every sample of the grid is covered exactly once, by a settled box or a
 // leaf; each leaf's tape gives the whole tape's values at the leaf's samples, bit for bit; and the
-// boxes it visits are the same for every thread count and breadth-first setting (0: first-level
-// boxes in parallel from the whole tape), also for tapes big enough to take the driver's
+// leaves it reaches are the same for every thread count and breadth-first setting (0: boxes in
+// parallel from the whole tape), also for tapes big enough to take the driver's
 // big-tape paths (fewer boxes per group, children reusing their parent).
 #include <gtest/gtest.h>
 
@@ -101,6 +101,7 @@ void check(int spheres_count, int n, std::vector<int> tiles) {
   const SampleGrid s = grid(n);
   std::set<std::tuple<int, int, int, int, int, int, bool>> reference;
   std::map<std::tuple<int, int, int>, std::vector<float>> cache;
+  bool settled_any = false;
   for (int bfs : {0, 1, 2})
     for (int threads : {1, 2}) {
       SCOPED_TRACE("tape " + std::to_string(t.size()) + ", breadth first " + std::to_string(bfs) + ", threads " +
@@ -110,14 +111,18 @@ void check(int spheres_count, int n, std::vector<int> tiles) {
       d.run(t, s, r);
       EXPECT_EQ(r.mismatch, "");
       EXPECT_TRUE(std::all_of(r.covered.begin(), r.covered.end(), [](int c) { return c == 1; }));
-      if (reference.empty()) reference = r.boxes;
-      EXPECT_EQ(r.boxes, reference);
+      // The leaves are the same boxes whatever the setting (settled boxes may come whole or as
+      // their children: without a frontier, parallel work starts at a finer level).
+      std::set<std::tuple<int, int, int, int, int, int, bool>> leaves;
+      for (const auto& b : r.boxes)
+        if (std::get<6>(b)) leaves.insert(b);
+      if (reference.empty()) reference = leaves;
+      EXPECT_EQ(leaves, reference);
+      settled_any |= leaves.size() < r.boxes.size();
     }
   // Something was settled and something reached the leaves.
-  int leaves = 0;
-  for (const auto& b : reference) leaves += std::get<6>(b);
-  EXPECT_GT(leaves, 0);
-  EXPECT_LT(static_cast<std::size_t>(leaves), reference.size());
+  EXPECT_GT(reference.size(), 0u);
+  EXPECT_TRUE(settled_any);
 }
 
 TEST(Subdivision, SmallTapeCoversEveryBoxOnceWithExactLeafTapes) { check(40, 48, {16, 8, 4}); }

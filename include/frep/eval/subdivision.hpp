@@ -58,8 +58,9 @@ struct SubdivisionOptions {
   std::vector<int> tiles = {256, 64, 16};  // box edge per level in grid steps, largest first
   int threads = 0;                         // worker threads; 0 = all hardware threads
   int breadth_first_levels = 2;            // levels expanded breadth first to make parallel work; 0: none,
-                                           // the first level's boxes run in parallel, each from the whole
-                                           // tape (least memory; always so for tapes of 2^18 instructions and more)
+                                           // boxes of the first level with at least 4 per worker run in parallel,
+                                           // each from the whole tape (least memory; always so for tapes of 2^18
+                                           // instructions and more)
 };
 
 // Reusable: keeps the pool, per-worker evaluators and tape storage between runs.
@@ -212,19 +213,28 @@ void Subdivider::run(const Tape& tape, const SampleGrid& grid, const IndexBox& r
   // Big tapes (converted meshes) never go breadth first: a frontier would keep a simplified
   // tape of up to millions of instructions for every open box of its levels.
   if (options_.breadth_first_levels <= 0 || tape.size() >= kBigTape) {
-    // Every first-level box on its own: split() over a parent that is the box itself.
-    std::vector<IndexBox> top;
-    const int step = options_.tiles[0];
-    for (int z = region.lo[2]; z < region.hi[2]; z += step)
-      for (int y = region.lo[1]; y < region.hi[1]; y += step)
-        for (int x = region.lo[0]; x < region.hi[0]; x += step)
-          top.push_back({{x, y, z}, {std::min(x + step, region.hi[0]), std::min(y + step, region.hi[1]), std::min(z + step, region.hi[2])}});
+    // Boxes of the first level, or of the first level with enough of them for the workers to
+    // share (the work of a big tape sits in a few boxes), each on its own from the whole tape:
+    // split() over a parent that is the box itself. Listed level by level within their parents,
+    // so they are exactly the boxes a descent would make.
+    std::vector<IndexBox> top{region};
+    int start = -1;
+    while (start + 1 < levels && (start < 0 || top.size() < static_cast<std::size_t>(4 * workers()))) {
+      const int step = options_.tiles[static_cast<std::size_t>(++start)];
+      std::vector<IndexBox> next;
+      for (const IndexBox& p : top)
+        for (int z = p.lo[2]; z < p.hi[2]; z += step)
+          for (int y = p.lo[1]; y < p.hi[1]; y += step)
+            for (int x = p.lo[0]; x < p.hi[0]; x += step)
+              next.push_back({{x, y, z}, {std::min(x + step, p.hi[0]), std::min(y + step, p.hi[1]), std::min(z + step, p.hi[2])}});
+      top = std::move(next);
+    }
     pool_->parallel_for(static_cast<int>(top.size()), [&](int wi, int i) {
       Worker& w = *workers_[static_cast<std::size_t>(wi)];
-      split(w, tape, grid, 0, top[static_cast<std::size_t>(i)], v, wi, [&](int) { return w.tapes[0].data(); },
-            [&](const Item& child) {
-              if (levels == 1) v.leaf(wi, *child.tape, child.box);
-              else descend(descend, wi, child, 0);
+      split(w, tape, grid, start, top[static_cast<std::size_t>(i)], v, wi,
+            [&](int) { return w.tapes[static_cast<std::size_t>(start)].data(); }, [&](const Item& child) {
+              if (start + 1 == levels) v.leaf(wi, *child.tape, child.box);
+              else descend(descend, wi, child, start);
             });
     });
     return;
