@@ -11,6 +11,7 @@
 #include "frep/expr/expr.hpp"
 #include "frep/io/vm.hpp"
 #include "frep/render/render2d.hpp"
+#include "cli_test_util.hpp"
 #include "test_util.hpp"
 
 namespace frep {
@@ -18,63 +19,27 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
+using RunResult = test::CliRun;
 
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("frep_cli_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
     // A small 2D model of our own, so most tests do not depend on the shared data.
     Graph g;
     auto x = g.x(), y = g.y();
     circle_ = path("circle.vm");
     save_vm(circle_, g, (sqrt(square(x - 0.2f) + square(y + 0.1f)) - 0.6f).id());
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string path(const std::string& name) const { return dir_.path(name); }
 
   RunResult run(const std::string& args, const std::string& stdin_text = "") {
-    const std::string out = path("stdout.txt"), err = path("stderr.txt"), in = path("stdin.txt");
-    {
-      std::ofstream f(in, std::ios::binary);
-      f << stdin_text;
-    }
-    const std::string cmd = quote(FREP_CLI_PATH) + " " + args + " <" + quote(in) + " >" + quote(out) + " 2>" + quote(err);
-    const int status = std::system(cmd.c_str());
-    RunResult r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
+    return test::run_frep(dir_, args, stdin_text);
   }
 
-  void write(const std::string& name, const std::string& text) {
-    std::ofstream f(path(name), std::ios::binary);
-    f << text;
-  }
+  void write(const std::string& name, const std::string& text) { test::write_text(path(name), text); }
 
-  fs::path dir_;
+  test::ScratchDir dir_;
   std::string circle_;
 };
 
@@ -108,7 +73,7 @@ TEST_F(Cli, HelpForEverySubcommandExitsZero) {
 TEST_F(Cli, InfoOnProspero) {
   FREP_REQUIRE_DATA("prospero.vm");
   const std::string file = test::data_file("prospero.vm");
-  const RunResult r = run("info " + quote(file));
+  const RunResult r = run("info " + test::shell_quote(file));
   ASSERT_EQ(r.code, 0) << r.err;
   const Model m = read_vm(file);
   const Tape t = Tape::compile(*m.graph, m.root);
@@ -123,7 +88,7 @@ TEST_F(Cli, InfoOnProspero) {
 TEST_F(Cli, InfoOnA3DModelListsZ) {
   Graph g;
   save_vm(path("ball.vm"), g, (square(g.x()) + square(g.y()) + square(g.z()) - 1.0f).id());
-  const RunResult r = run("info " + quote(path("ball.vm")));
+  const RunResult r = run("info " + test::shell_quote(path("ball.vm")));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("variables: x y z"), std::string::npos) << r.out;
 }
@@ -139,7 +104,7 @@ TEST_F(Cli, EvalMatchesThePointEvaluator) {
       "0.2 -0.1 3   # a comment\n"
       "1e30 -1e30 0\r\n";
   write("pts.txt", pts);
-  const RunResult r = run("eval " + quote(circle_) + " --points " + quote(path("pts.txt")));
+  const RunResult r = run("eval " + test::shell_quote(circle_) + " --points " + test::shell_quote(path("pts.txt")));
   ASSERT_EQ(r.code, 0) << r.err;
   const Model m = read_vm(circle_);
   const Tape t = Tape::compile(*m.graph, m.root);
@@ -150,7 +115,7 @@ TEST_F(Cli, EvalMatchesThePointEvaluator) {
   for (int i = 0; i < 6; ++i) EXPECT_EQ(got[i], fmt9(pe.eval(t, P[i][0], P[i][1], P[i][2]))) << "line " << i;
 
   // Gradients: value and d/dx d/dy d/dz.
-  const RunResult g = run("eval " + quote(circle_) + " --points " + quote(path("pts.txt")) + " --grad");
+  const RunResult g = run("eval " + test::shell_quote(circle_) + " --points " + test::shell_quote(path("pts.txt")) + " --grad");
   ASSERT_EQ(g.code, 0) << g.err;
   GradEvaluator ge;
   const std::vector<std::string> gl = lines_of(g.out);
@@ -161,7 +126,7 @@ TEST_F(Cli, EvalMatchesThePointEvaluator) {
   }
 
   // Points from stdin.
-  const RunResult s = run("eval " + quote(circle_) + " --points -", "0 0 0\n0.2 -0.1\n");
+  const RunResult s = run("eval " + test::shell_quote(circle_) + " --points -", "0 0 0\n0.2 -0.1\n");
   ASSERT_EQ(s.code, 0) << s.err;
   EXPECT_EQ(s.out, fmt9(pe.eval(t, 0, 0, 0)) + "\n" + fmt9(pe.eval(t, 0.2f, -0.1f, 0)) + "\n");
 }
@@ -177,7 +142,7 @@ TEST_F(Cli, EvalManyPointsOnProspero) {
     pts += fmt9(x) + " " + fmt9(y) + "\n";
   }
   write("pts.txt", pts);
-  const RunResult r = run("eval " + quote(test::data_file("prospero.vm")) + " -p " + quote(path("pts.txt")));
+  const RunResult r = run("eval " + test::shell_quote(test::data_file("prospero.vm")) + " -p " + test::shell_quote(path("pts.txt")));
   ASSERT_EQ(r.code, 0) << r.err;
   const Model m = read_vm(test::data_file("prospero.vm"));
   const Tape t = Tape::compile(*m.graph, m.root);
@@ -190,43 +155,43 @@ TEST_F(Cli, EvalManyPointsOnProspero) {
 TEST_F(Cli, EvalErrors) {
   // Missing expression file.
   write("pts.txt", "0 0 0\n");
-  RunResult r = run("eval " + quote(path("nope.vm")) + " --points " + quote(path("pts.txt")));
+  RunResult r = run("eval " + test::shell_quote(path("nope.vm")) + " --points " + test::shell_quote(path("pts.txt")));
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.err.find("nope.vm"), std::string::npos) << r.err;
   EXPECT_TRUE(r.out.empty());
   // Bad points file: the message names the file and line.
   write("bad.txt", "0 0 0\n# fine\n1 2 3\n1 zz 3\n");
-  r = run("eval " + quote(circle_) + " --points " + quote(path("bad.txt")));
+  r = run("eval " + test::shell_quote(circle_) + " --points " + test::shell_quote(path("bad.txt")));
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.err.find("bad.txt:4"), std::string::npos) << r.err;
   write("bad2.txt", "0 0 0\n1\n");
-  r = run("eval " + quote(circle_) + " --points " + quote(path("bad2.txt")));
+  r = run("eval " + test::shell_quote(circle_) + " --points " + test::shell_quote(path("bad2.txt")));
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.err.find("bad2.txt:2"), std::string::npos) << r.err;
   write("bad3.txt", "1 2 3 4\n");
-  r = run("eval " + quote(circle_) + " --points " + quote(path("bad3.txt")));
+  r = run("eval " + test::shell_quote(circle_) + " --points " + test::shell_quote(path("bad3.txt")));
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.err.find("bad3.txt:1"), std::string::npos) << r.err;
   // Missing points file, missing --points.
-  r = run("eval " + quote(circle_) + " --points " + quote(path("nope.txt")));
+  r = run("eval " + test::shell_quote(circle_) + " --points " + test::shell_quote(path("nope.txt")));
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.err.find("nope.txt"), std::string::npos) << r.err;
-  r = run("eval " + quote(circle_));
+  r = run("eval " + test::shell_quote(circle_));
   EXPECT_NE(r.code, 0);
   EXPECT_FALSE(r.err.empty());
   // A bad expression file: file and line.
   write("broken.vm", "a var-x\nb nosuchop a\n");
-  r = run("eval " + quote(path("broken.vm")) + " --points " + quote(path("pts.txt")));
+  r = run("eval " + test::shell_quote(path("broken.vm")) + " --points " + test::shell_quote(path("pts.txt")));
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.err.find("broken.vm:2"), std::string::npos) << r.err;
-  r = run("info " + quote(path("broken.vm")));
+  r = run("info " + test::shell_quote(path("broken.vm")));
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.err.find("broken.vm:2"), std::string::npos) << r.err;
 }
 
 // Reads a binary PGM written by frep.
 bool read_pgm(const std::string& file, Image& img) {
-  const std::string bytes = slurp(file);
+  const std::string bytes = test::read_text(file);
   int w = 0, h = 0, maxv = 0, off = 0;
   if (std::sscanf(bytes.c_str(), "P5 %d %d %d%n", &w, &h, &maxv, &off) != 3 || maxv != 255) return false;
   ++off;  // the single whitespace after maxval
@@ -238,10 +203,10 @@ bool read_pgm(const std::string& file, Image& img) {
 
 TEST_F(Cli, RenderPngAndPgm) {
   const std::string png = path("out.png"), pgm = path("out.pgm");
-  RunResult r = run("render " + quote(circle_) + " --size 64 -o " + quote(png));
+  RunResult r = run("render " + test::shell_quote(circle_) + " --size 64 -o " + test::shell_quote(png));
   ASSERT_EQ(r.code, 0) << r.err;
   ASSERT_TRUE(fs::exists(png));
-  const std::string bytes = slurp(png);
+  const std::string bytes = test::read_text(png);
   ASSERT_GT(bytes.size(), 24u);
   EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
   auto be32 = [&](std::size_t o) {
@@ -252,7 +217,7 @@ TEST_F(Cli, RenderPngAndPgm) {
   EXPECT_EQ(be32(16), 64u);
   EXPECT_EQ(be32(20), 64u);
 
-  r = run("render " + quote(circle_) + " -s 64 -q --output " + quote(pgm));
+  r = run("render " + test::shell_quote(circle_) + " -s 64 -q --output " + test::shell_quote(pgm));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(r.out.empty()) << "--quiet";
   Image img;
@@ -272,7 +237,7 @@ TEST_F(Cli, RenderPngAndPgm) {
 TEST_F(Cli, RenderProsperoPgmMatchesBruteForce) {
   FREP_REQUIRE_DATA("prospero.vm");
   const std::string pgm = path("p.pgm");
-  const RunResult r = run("render " + quote(test::data_file("prospero.vm")) + " --size 97 -j 2 -o " + quote(pgm));
+  const RunResult r = run("render " + test::shell_quote(test::data_file("prospero.vm")) + " --size 97 -j 2 -o " + test::shell_quote(pgm));
   ASSERT_EQ(r.code, 0) << r.err;
   Image img;
   ASSERT_TRUE(read_pgm(pgm, img));
@@ -284,40 +249,40 @@ TEST_F(Cli, RenderProsperoPgmMatchesBruteForce) {
 
 TEST_F(Cli, RenderErrorsLeaveNoOutputFile) {
   // Bad extension.
-  RunResult r = run("render " + quote(circle_) + " --size 16 -o " + quote(path("out.jpg")));
+  RunResult r = run("render " + test::shell_quote(circle_) + " --size 16 -o " + test::shell_quote(path("out.jpg")));
   EXPECT_NE(r.code, 0);
   EXPECT_FALSE(r.err.empty());
   EXPECT_FALSE(fs::exists(path("out.jpg")));
   // --size 0 and a negative size.
-  r = run("render " + quote(circle_) + " --size 0 -o " + quote(path("zero.png")));
+  r = run("render " + test::shell_quote(circle_) + " --size 0 -o " + test::shell_quote(path("zero.png")));
   EXPECT_NE(r.code, 0);
   EXPECT_FALSE(r.err.empty());
   EXPECT_FALSE(fs::exists(path("zero.png")));
-  r = run("render " + quote(circle_) + " --size -5 -o " + quote(path("neg.png")));
+  r = run("render " + test::shell_quote(circle_) + " --size -5 -o " + test::shell_quote(path("neg.png")));
   EXPECT_NE(r.code, 0);
   EXPECT_FALSE(fs::exists(path("neg.png")));
   // Missing input.
-  r = run("render " + quote(path("nope.vm")) + " --size 16 -o " + quote(path("x.png")));
+  r = run("render " + test::shell_quote(path("nope.vm")) + " --size 16 -o " + test::shell_quote(path("x.png")));
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.err.find("nope.vm"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(path("x.png")));
   // Output in a directory that does not exist: fails cleanly, nothing is created.
   const std::string deep = path("no/such/dir/out.png");
-  r = run("render " + quote(circle_) + " --size 16 -o " + quote(deep));
+  r = run("render " + test::shell_quote(circle_) + " --size 16 -o " + test::shell_quote(deep));
   EXPECT_NE(r.code, 0);
   EXPECT_FALSE(r.err.empty());
   EXPECT_FALSE(fs::exists(deep));
   EXPECT_FALSE(fs::exists(path("no")));
   // Output is a directory.
   fs::create_directories(path("adir.png"));
-  r = run("render " + quote(circle_) + " --size 16 -o " + quote(path("adir.png")));
+  r = run("render " + test::shell_quote(circle_) + " --size 16 -o " + test::shell_quote(path("adir.png")));
   EXPECT_NE(r.code, 0);
   EXPECT_TRUE(fs::is_directory(path("adir.png")));
   // Missing -o.
-  r = run("render " + quote(circle_) + " --size 16");
+  r = run("render " + test::shell_quote(circle_) + " --size 16");
   EXPECT_NE(r.code, 0);
   // No temporary files left in the output directory.
-  for (const auto& e : fs::directory_iterator(dir_)) {
+  for (const auto& e : fs::directory_iterator(dir_.dir())) {
     const std::string n = e.path().filename().string();
     EXPECT_EQ(n.find(".tmp"), std::string::npos) << "leftover " << n;
   }
@@ -327,9 +292,9 @@ TEST_F(Cli, FailedRenderKeepsAnExistingOutputIntact) {
   const std::string png = path("keep.png");
   write("keep.png", "original");
   // An unknown input fails before writing; the old file is untouched.
-  const RunResult r = run("render " + quote(path("nope.vm")) + " --size 16 -o " + quote(png));
+  const RunResult r = run("render " + test::shell_quote(path("nope.vm")) + " --size 16 -o " + test::shell_quote(png));
   EXPECT_NE(r.code, 0);
-  EXPECT_EQ(slurp(png), "original");
+  EXPECT_EQ(test::read_text(png), "original");
 }
 
 }  // namespace
@@ -342,10 +307,10 @@ namespace {
 TEST_F(Cli, ExitCodesDistinguishInputErrorsFromUsageErrors) {
   EXPECT_EQ(run("").code, 2);                                   // no subcommand
   EXPECT_EQ(run("frobnicate").code, 2);                         // unknown subcommand
-  EXPECT_EQ(run("render " + quote(circle_)).code, 2);           // missing -o
-  EXPECT_EQ(run("render " + quote(circle_) + " -o x.png --size 0").code, 2);
-  EXPECT_EQ(run("info " + quote(path("missing.vm"))).code, 1);  // input error
-  const RunResult bad_ext = run("render " + quote(circle_) + " -o " + quote(path("x.jpg")));
+  EXPECT_EQ(run("render " + test::shell_quote(circle_)).code, 2);           // missing -o
+  EXPECT_EQ(run("render " + test::shell_quote(circle_) + " -o x.png --size 0").code, 2);
+  EXPECT_EQ(run("info " + test::shell_quote(path("missing.vm"))).code, 1);  // input error
+  const RunResult bad_ext = run("render " + test::shell_quote(circle_) + " -o " + test::shell_quote(path("x.jpg")));
   EXPECT_EQ(bad_ext.code, 1);
   EXPECT_NE(bad_ext.err.find("x.jpg"), std::string::npos) << bad_ext.err;
   EXPECT_EQ(run("--version").code, 0);

@@ -18,32 +18,19 @@
 #include "frep/mesh/validate.hpp"
 #include "frep/ugf/offset.hpp"
 #include "mesh_test_util.hpp"
+#include "cli_test_util.hpp"
 #include "test_util.hpp"
 
 namespace frep {
 namespace {
 
+using test::CliRun;
+
 namespace fs = std::filesystem;
-
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 class UgfCommands : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("frep_ugf_cli_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
     ball_ = path("ball.vm");
     Graph g;
     save_vm(ball_, g, (sqrt(square(g.x() - 0.1f) + square(g.y()) + square(g.z())) - 0.6f).id());
@@ -56,21 +43,11 @@ class UgfCommands : public ::testing::Test {
     cube_ = path("cube.obj");
     write_mesh(cube_, test::make_box());
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string path(const std::string& name) const { return dir_.path(name); }
 
-  CliRun run(const std::string& args) {
-    const std::string out = path("stdout.txt"), err = path("stderr.txt");
-    const std::string cmd = std::string("'") + FREP_CLI_PATH + "' " + args + " >'" + out + "' 2>'" + err + "'";
-    const int status = std::system(cmd.c_str());
-    CliRun r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-  }
+  CliRun run(const std::string& args) { return test::run_frep(dir_, args); }
 
-  fs::path dir_;
+  test::ScratchDir dir_;
   std::string ball_, ball2_, ball3_, cube_;
 };
 

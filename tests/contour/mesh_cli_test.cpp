@@ -12,33 +12,19 @@
 #include "frep/io/vm.hpp"
 #include "frep/mesh/mesh_io.hpp"
 #include "frep/mesh/validate.hpp"
+#include "cli_test_util.hpp"
 #include "test_util.hpp"
 
 namespace frep {
 namespace {
 
+using test::CliRun;
+
 namespace fs = std::filesystem;
-
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 class MeshCommand : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("frep_mesh_cli_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
     Graph g;
     auto x = g.x(), y = g.y(), z = g.z();
     ball_ = path("ball.vm");
@@ -47,21 +33,11 @@ class MeshCommand : public ::testing::Test {
     half_ = path("half.vm");
     save_vm(half_, h, (h.x() - 0.2f).id());
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string path(const std::string& name) const { return dir_.path(name); }
 
-  CliRun run(const std::string& args) {
-    const std::string out = path("stdout.txt"), err = path("stderr.txt");
-    const std::string cmd = std::string("'") + FREP_CLI_PATH + "' " + args + " >'" + out + "' 2>'" + err + "'";
-    const int status = std::system(cmd.c_str());
-    CliRun r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-  }
+  CliRun run(const std::string& args) { return test::run_frep(dir_, args); }
 
-  fs::path dir_;
+  test::ScratchDir dir_;
   std::string ball_, half_;
 };
 

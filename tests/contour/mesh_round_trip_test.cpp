@@ -22,6 +22,8 @@
 #include "frep/mesh/mesh_io.hpp"
 #include "mesh_test_util.hpp"
 
+#include "cli_test_util.hpp"
+
 namespace frep {
 namespace {
 
@@ -134,37 +136,15 @@ TEST(MeshRoundTrip, DistanceDetectsAnOffset) {
   EXPECT_GT(max_distance(surface_points(big, 2000, 3), out) / st.cell_size, 1.0);
 }
 
-struct CliRun {
-  int code = -1;
-  std::string out;
-};
-
-CliRun run_cli(const std::string& args, const std::string& stdout_file) {
-  const std::string cmd = std::string("'") + FREP_CLI_PATH + "' " + args + " >'" + stdout_file + "' 2>&1";
-  const int status = std::system(cmd.c_str());
-  CliRun r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::FILE* f = std::fopen(stdout_file.c_str(), "rb");
-  if (f) {
-    char buf[4096];
-    std::size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) r.out.append(buf, n);
-    std::fclose(f);
-  }
-  return r;
-}
-
 // `frep mesh part.stl`: the mesh is read, converted and meshed without --bounds; the output is a
 // valid solid within a cell of the input, with the input's volume.
 TEST(MeshRoundTrip, CliMeshesAMeshFile) {
-  namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("frep_mesh_round_trip_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const test::ScratchDir dir;
   const TriMesh input = read_mesh(FREP_SOURCE_DIR "/examples/bracket.obj");
-  const std::string in_stl = (dir / "bracket.stl").string(), out_stl = (dir / "out.stl").string();
+  const std::string in_stl = dir.path("bracket.stl"), out_stl = dir.path("out.stl");
   write_mesh(in_stl, input);  // binary STL: exercises the STL reader and welding on the way in
-  const CliRun r = run_cli("mesh '" + in_stl + "' -o '" + out_stl + "' -r 64", (dir / "log.txt").string());
-  ASSERT_EQ(r.code, 0) << r.out;
+  const test::CliRun r = test::run_frep(dir, "mesh '" + in_stl + "' -o '" + out_stl + "' -r 64");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("triangles"), std::string::npos) << r.out;
   const TriMesh out = read_mesh(out_stl);
   const ValidationReport v = test::expect_solid(out, "bracket via the CLI");
@@ -177,7 +157,6 @@ TEST(MeshRoundTrip, CliMeshesAMeshFile) {
   const double cell = std::max({ext.x, ext.y, ext.z}) / 64;
   EXPECT_LE(max_distance(out.vertices, input), 1.1 * cell);
   EXPECT_LE(max_distance(surface_points(input, 5000, 5), out), 1.1 * cell);
-  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -16,11 +16,6 @@
 namespace frep::test {
 namespace {
 
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
-
 class ExportCli : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -31,16 +26,7 @@ class ExportCli : public ::testing::Test {
     save_vm(model_, g, if_nonzero_else(compare(z, 0.0f), ball, max(ball, -z)).id());
   }
 
-  CliRun run(const std::string& args) {
-    const std::string out = dir_.path("stdout.txt"), err = dir_.path("stderr.txt");
-    const std::string cmd = shell_quote(FREP_CLI_PATH) + " export " + args + " >" + shell_quote(out) + " 2>" + shell_quote(err);
-    const int status = std::system(cmd.c_str());
-    CliRun r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = read_text(out);
-    r.err = read_text(err);
-    return r;
-  }
+  CliRun run(const std::string& args) { return run_frep(dir_, "export " + args); }
 
   // What the library writes for the model, as the CLI calls it.
   std::string library(const std::string& format) {

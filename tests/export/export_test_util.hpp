@@ -1,4 +1,4 @@
-// Helpers for the exporter tests: a scratch directory, running external tools (compilers,
+// Helpers for the exporter tests (the scratch directory is cli_test_util.hpp's): running external tools (compilers,
 // glslangValidator, pdflatex) with a clean skip where they are absent, and evaluating a batch of
 // exported functions at many points through a compiled driver program.
 #pragma once
@@ -17,49 +17,12 @@
 
 #include "frep/eval/evaluators.hpp"
 #include "frep/eval/tape.hpp"
+#include "cli_test_util.hpp"
 #include "test_util.hpp"
 
 namespace frep::test {
 
 namespace fs = std::filesystem;
-
-inline std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-inline std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-inline void write_text(const fs::path& p, const std::string& text) {
-  std::ofstream f(p, std::ios::binary);
-  f << text;
-}
-
-// A directory under the system temp dir, named after the running test, removed afterwards.
-class ScratchDir {
- public:
-  ScratchDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("frep_export_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  ~ScratchDir() { fs::remove_all(dir_); }
-  ScratchDir(const ScratchDir&) = delete;
-  ScratchDir& operator=(const ScratchDir&) = delete;
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  const fs::path& dir() const { return dir_; }
-
- private:
-  fs::path dir_;
-};
 
 struct CommandResult {
   int code = -1;

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "frep/io/vm.hpp"
+#include "cli_test_util.hpp"
 #include "rhai_test_util.hpp"
 
 namespace frep {
@@ -20,27 +21,16 @@ namespace fs = std::filesystem;
 
 class RhaiCli : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("frep_rhai_cli_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  void write(const std::string& name, const std::string& text) { std::ofstream(path(name)) << text; }
-  std::string slurp(const std::string& name) {
-    std::ifstream in(path(name), std::ios::binary);
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  }
-  // Runs `frep args`; returns the exit code, with stdout and stderr in out.txt and err.txt.
+  std::string path(const std::string& name) const { return dir_.path(name); }
+  void write(const std::string& name, const std::string& text) { test::write_text(path(name), text); }
+  std::string slurp(const std::string& name) { return test::read_text(path(name)); }
+  // Runs `frep args`; returns the exit code, with stdout and stderr in last_.
   int run(const std::string& args) {
-    const std::string cmd = std::string(FREP_CLI_PATH) + " " + args + " > '" + path("out.txt") + "' 2> '" + path("err.txt") + "'";
-    const int status = std::system(cmd.c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    last_ = test::run_frep(dir_, args);
+    return last_.code;
   }
-  fs::path dir_;
+  test::ScratchDir dir_;
+  test::CliRun last_;
 };
 
 const char* kScript =
@@ -52,9 +42,9 @@ const char* kScript =
 TEST_F(RhaiCli, EvalPrintsTheScriptsValues) {
   write("m.rhai", kScript);
   write("pts.txt", "0 0\n0.1 0\n0.55 0.55\n-0.3 0.2\n");
-  ASSERT_EQ(run("eval '" + path("m.rhai") + "' --points '" + path("pts.txt") + "'"), 0) << slurp("err.txt");
+  ASSERT_EQ(run("eval '" + path("m.rhai") + "' --points '" + path("pts.txt") + "'"), 0) << last_.err;
   const Model m = test::run_rhai(kScript);
-  std::istringstream out(slurp("out.txt"));
+  std::istringstream out(last_.out);
   const float pts[4][2] = {{0, 0}, {0.1f, 0}, {0.55f, 0.55f}, {-0.3f, 0.2f}};
   for (const auto& p : pts) {
     float v = 0;
@@ -67,23 +57,23 @@ TEST_F(RhaiCli, RenderEqualsTheVmRenderAndInfoCounts) {
   write("m.rhai", kScript);
   const Model m = test::run_rhai(kScript);
   save_vm(path("m.vm"), *m.graph, m.root);
-  ASSERT_EQ(run("render '" + path("m.rhai") + "' --size 64 -q -o '" + path("a.pgm") + "'"), 0) << slurp("err.txt");
-  ASSERT_EQ(run("render '" + path("m.vm") + "' --size 64 -q -o '" + path("b.pgm") + "'"), 0) << slurp("err.txt");
+  ASSERT_EQ(run("render '" + path("m.rhai") + "' --size 64 -q -o '" + path("a.pgm") + "'"), 0) << last_.err;
+  ASSERT_EQ(run("render '" + path("m.vm") + "' --size 64 -q -o '" + path("b.pgm") + "'"), 0) << last_.err;
   EXPECT_EQ(slurp("a.pgm"), slurp("b.pgm"));
   EXPECT_GT(slurp("a.pgm").size(), 64u * 64u);
   ASSERT_EQ(run("info '" + path("m.rhai") + "'"), 0);
-  EXPECT_NE(slurp("out.txt").find("nodes: " + std::to_string(reachable_nodes(*m.graph, m.root).size())),
+  EXPECT_NE(last_.out.find("nodes: " + std::to_string(reachable_nodes(*m.graph, m.root).size())),
             std::string::npos)
-      << slurp("out.txt");
+      << last_.out;
 }
 
 TEST_F(RhaiCli, BadScriptExitsWithOneAndThePosition) {
   write("bad.rhai", "let a = circle();\nlet b = a +;\n");
   EXPECT_EQ(run("info '" + path("bad.rhai") + "'"), 1);
-  EXPECT_NE(slurp("err.txt").find("bad.rhai:2: column 12: expected an expression"), std::string::npos) << slurp("err.txt");
+  EXPECT_NE(last_.err.find("bad.rhai:2: column 12: expected an expression"), std::string::npos) << last_.err;
   write("cmp.rhai", "if x < 0 { x } else { -x }\n");
   EXPECT_EQ(run("info '" + path("cmp.rhai") + "'"), 1);
-  EXPECT_NE(slurp("err.txt").find("cmp.rhai:1: column 6: cannot compare expressions"), std::string::npos) << slurp("err.txt");
+  EXPECT_NE(last_.err.find("cmp.rhai:1: column 6: cannot compare expressions"), std::string::npos) << last_.err;
 }
 
 }  // namespace

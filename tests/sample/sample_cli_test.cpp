@@ -17,24 +17,16 @@
 #include "frep/sample/grid.hpp"
 #include "frep/sample/mesh_field.hpp"
 
+#include "cli_test_util.hpp"
+
 namespace frep {
 namespace {
+
+using test::CliRun;
 
 namespace fs = std::filesystem;
 
 const std::string kBracket = FREP_SOURCE_DIR "/examples/bracket.obj";
-
-struct CliRun {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 int shell(const std::string& cmd) {
   const int status = std::system(cmd.c_str());
@@ -43,34 +35,19 @@ int shell(const std::string& cmd) {
 
 class SampleCommand : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("frep_sample_cli_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string path(const std::string& name) const { return dir_.path(name); }
 
-  CliRun run(const std::string& args) {
-    const std::string out = (dir_ / "log" / "stdout.txt").string(), err = (dir_ / "log" / "stderr.txt").string();
-    fs::create_directories(dir_ / "log");
-    CliRun r;
-    r.code = shell(std::string("'") + FREP_CLI_PATH + "' " + args + " >'" + out + "' 2>'" + err + "'");
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-  }
+  CliRun run(const std::string& args) { return test::run_frep(dir_, args); }
   // Files in the work directory other than the logs (no temporary file may be left behind).
   std::vector<std::string> files() const {
     std::vector<std::string> v;
-    for (const auto& e : fs::directory_iterator(dir_))
+    for (const auto& e : fs::directory_iterator(dir_.dir()))
       if (e.path().filename() != "log") v.push_back(e.path().filename().string());
     std::sort(v.begin(), v.end());
     return v;
   }
 
-  fs::path dir_;
+  test::ScratchDir dir_;
 };
 
 // The mesh grid at the default bounds, then the converted expression over the printed bounds:
@@ -116,7 +93,7 @@ TEST_F(SampleCommand, PointsShape) {
   EXPECT_EQ(a.shape, (std::vector<std::size_t>{150, 4}));
   const std::string again = path("again.npy");
   ASSERT_EQ(run("sample '" + kBracket + "' --points 100 --near-surface 50 --sigma 0.01 --seed 3 -q -o '" + again + "'").code, 0);
-  EXPECT_EQ(slurp(out), slurp(again));  // the seed fixes the file
+  EXPECT_EQ(test::read_text(out), test::read_text(again));  // the seed fixes the file
 }
 
 // numpy.load reads the grid with the documented shape, dtype and order.
@@ -213,7 +190,7 @@ TEST_F(SampleCommand, AtomicOutput) {
   const std::string open = path("open.obj");
   std::ofstream(open) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 3 2\n";
   EXPECT_EQ(run("sample '" + open + "' --grid 4 --method cpt -o '" + out + "'").code, 1);
-  EXPECT_EQ(slurp(out), "old contents");
+  EXPECT_EQ(test::read_text(out), "old contents");
   ASSERT_EQ(run("sample '" + kBracket + "' --grid 4 -q -o '" + out + "'").code, 0);
   EXPECT_EQ(read_npy(out).shape, (std::vector<std::size_t>{4, 4, 4}));
   EXPECT_EQ(files(), (std::vector<std::string>{"open.obj", "out.npy"}));
