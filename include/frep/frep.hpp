@@ -3,6 +3,7 @@
 
 #include "frep/error.hpp"
 #include "frep/math/vec.hpp"
+#include "frep/math/morton.hpp"
 #include "frep/util/thread_pool.hpp"
 
 #include "frep/expr/opcode.hpp"

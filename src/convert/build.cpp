@@ -20,6 +20,7 @@
 #include <cmath>
 #include <limits>
 
+#include "frep/math/morton.hpp"
 #include "frep/error.hpp"
 
 namespace frep::convert_detail {
@@ -261,23 +262,14 @@ Term ExprBuilder::distance(bool signed_terms, const Box3& box) {
 
 std::vector<std::uint32_t> morton_order(const std::vector<Vec3>& points, const Box3& box) {
   const Vec3 size = box.size();
-  const double scale[3] = {size.x > 0 ? 2097151.0 / size.x : 0, size.y > 0 ? 2097151.0 / size.y : 0,
-                           size.z > 0 ? 2097151.0 / size.z : 0};
-  auto spread = [](std::uint64_t v) {  // 21 bits -> every third of 63
-    v &= 0x1fffff;
-    v = (v | v << 32) & 0x1f00000000ffffull;
-    v = (v | v << 16) & 0x1f0000ff0000ffull;
-    v = (v | v << 8) & 0x100f00f00f00f00full;
-    v = (v | v << 4) & 0x10c30c30c30c30c3ull;
-    v = (v | v << 2) & 0x1249249249249249ull;
-    return v;
-  };
+  const double scale[3] = {size.x > 0 ? kMortonCells / size.x : 0, size.y > 0 ? kMortonCells / size.y : 0,
+                           size.z > 0 ? kMortonCells / size.z : 0};
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     std::uint64_t code = 0;
     for (int k = 0; k < 3; ++k) {
-      const double q = std::clamp((points[i][k] - box.lo[k]) * scale[k], 0.0, 2097151.0);
-      code |= spread(static_cast<std::uint64_t>(q)) << k;
+      const double q = std::clamp((points[i][k] - box.lo[k]) * scale[k], 0.0, kMortonCells);
+      code |= morton_spread(static_cast<std::uint64_t>(q)) << k;
     }
     keys[i] = {code, static_cast<std::uint32_t>(i)};
   }

@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "frep/error.hpp"
+#include "frep/math/morton.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/util/thread_pool.hpp"
 
@@ -16,16 +17,6 @@ namespace frep {
 namespace {
 
 constexpr std::size_t kLeafPoints = 64;  // groups this small are evaluated, not split
-
-std::uint64_t spread(std::uint64_t v) {  // 21 bits -> every third of 63
-  v &= 0x1fffff;
-  v = (v | v << 32) & 0x1f00000000ffffull;
-  v = (v | v << 16) & 0x1f0000ff0000ffull;
-  v = (v | v << 8) & 0x100f00f00f00f00full;
-  v = (v | v << 4) & 0x10c30c30c30c30c3ull;
-  v = (v | v << 2) & 0x1249249249249249ull;
-  return v;
-}
 
 }  // namespace
 
@@ -70,9 +61,9 @@ void PointCloudEvaluator::run(const Tape& tape, const float* xs, const float* ys
     std::uint64_t code = 0;
     for (int k = 0; k < 3; ++k) {
       const double extent = hi[k] - lo[k];
-      double q = extent > 0 ? (double(c[k][i]) - lo[k]) / extent * 2097151.0 : 0.0;
+      double q = extent > 0 ? (double(c[k][i]) - lo[k]) / extent * kMortonCells : 0.0;
       if (!(q >= 0)) q = 0;  // NaN, or below: anywhere will do
-      code |= spread(static_cast<std::uint64_t>(std::min(q, 2097151.0))) << k;
+      code |= morton_spread(static_cast<std::uint64_t>(std::min(q, kMortonCells))) << k;
     }
     keys[i] = {code, static_cast<std::uint32_t>(i)};
   }

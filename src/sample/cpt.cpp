@@ -30,6 +30,7 @@
 #include <limits>
 #include <vector>
 
+#include "frep/math/morton.hpp"
 #include "frep/error.hpp"
 #include "frep/mesh/topology.hpp"
 #include "frep/util/thread_pool.hpp"
@@ -540,15 +541,6 @@ void closest_point_transform(const MeshField& field, const GridSpec& grid, Threa
     // neighbouring rows of the scratch grids, which keeps the scan in cache.
     std::vector<std::pair<std::uint64_t, std::uint32_t>> key(features.size());
     const Box3& gb = grid.bounds;
-    auto spread = [](std::uint64_t v) {
-      v &= 0x1fffff;
-      v = (v | v << 32) & 0x1f00000000ffffull;
-      v = (v | v << 16) & 0x1f0000ff0000ffull;
-      v = (v | v << 8) & 0x100f00f00f00f00full;
-      v = (v | v << 4) & 0x10c30c30c30c30c3ull;
-      v = (v | v << 2) & 0x1249249249249249ull;
-      return v;
-    };
     for (std::size_t i = 0; i < features.size(); ++i) {
       const Feature& f = features[i];
       const Vec3 p = f.kind == Kind::Face ? mesh.corner(f.element, 0)
@@ -557,7 +549,7 @@ void closest_point_transform(const MeshField& field, const GridSpec& grid, Threa
       std::uint64_t code = 0;
       for (int a = 0; a < 3; ++a) {
         const double u = std::clamp((p[a] - gb.lo[a]) / (gb.hi[a] - gb.lo[a]), 0.0, 1.0);
-        code |= spread(static_cast<std::uint64_t>(u * 2097151.0)) << (2 - a);
+        code |= morton_spread(static_cast<std::uint64_t>(u * kMortonCells)) << (2 - a);
       }
       key[i] = {code, static_cast<std::uint32_t>(i)};
     }
