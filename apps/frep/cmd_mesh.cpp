@@ -12,6 +12,7 @@
 #include "input.hpp"
 #include "frep/contour/mesher.hpp"
 #include "frep/error.hpp"
+#include "frep/io/atomic_file.hpp"
 #include "frep/io/load.hpp"
 #include "frep/mesh/mesh_io.hpp"
 
@@ -22,13 +23,7 @@ void check_output_path(const std::string& path) {
   const MeshFormat f = format_from_extension(path);
   if (f != MeshFormat::Stl && f != MeshFormat::Obj && f != MeshFormat::Ply)
     throw InputError(path, 0, "unknown mesh format for the output: use a .stl, .obj or .ply file name");
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  std::error_code ec;
-  if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
-    throw InputError(path, 0, "cannot write: directory " + parent.string() + " does not exist");
-  if (::access(parent.empty() ? "." : parent.c_str(), W_OK) != 0)
-    throw InputError(path, 0, "cannot write: directory " + (parent.empty() ? std::string(".") : parent.string()) +
-                                  " is not writable");
+  check_output_directory(path);
 }
 
 std::string fmt_point(const Vec3& p) { return fmt::format("{:.6g}, {:.6g}, {:.6g}", p.x, p.y, p.z); }

@@ -60,4 +60,14 @@ std::string read_file(const std::string& path) {
   return std::move(ss).str();
 }
 
+void check_output_directory(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
+    throw InputError(path, 0, "cannot write: directory " + parent.string() + " does not exist");
+  if (::access(parent.empty() ? "." : parent.c_str(), W_OK) != 0)
+    throw InputError(path, 0, "cannot write: directory " + (parent.empty() ? std::string(".") : parent.string()) +
+                                  " is not writable");
+}
+
 }  // namespace frep

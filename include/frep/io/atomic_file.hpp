@@ -14,6 +14,10 @@ namespace frep {
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& produce);
 void write_file_atomically(const std::string& path, std::string_view bytes);
 
+// Checks, before long work, that `path` could be written: its directory exists and is writable.
+// Throws InputError naming `path` otherwise.
+void check_output_directory(const std::string& path);
+
 // Reads a whole file; throws InputError naming it if it cannot be read.
 std::string read_file(const std::string& path);
 
