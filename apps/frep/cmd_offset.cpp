@@ -37,10 +37,11 @@ void register_offset(CLI::App& app) {
   cmd->callback([a, o] {
     check_field_output_options(*o);
     check_field_output(a->output);
-    Model m = load_input(a->input);
+    ConvertStats converted;
+    Model m = load_input(a->input, &converted);
     // Only a mesh output needs the region (an expression is saved whatever its bounds).
     const Box3 region = is_mesh_output(a->output)
-                            ? input_region(a->input, Tape::compile(*m.graph, m.root), *o)
+                            ? input_region(a->input, converted, Tape::compile(*m.graph, m.root), *o)
                                   .inflated(o->bounds.empty() ? std::max(a->distance, 0.0) : 0.0)
                             : Box3{};
     const Expr result = ugf::offset(m.root_expr(), static_cast<float>(a->distance));

@@ -44,14 +44,15 @@ void register_shell(CLI::App& app) {
   cmd->callback([a, o] {
     check_field_output_options(*o);
     check_field_output(a->output);
-    Model m = load_input(a->input);
+    ConvertStats converted;
+    Model m = load_input(a->input, &converted);
     const float t = static_cast<float>(a->thickness);
     const Expr f = m.root_expr();
     const bool outward = a->side == "outward", inward = a->side == "inward";
     const Expr result = inward ? ugf::shell_inward(f, t) : outward ? ugf::shell_outward(f, t) : ugf::shell(f, t);
     if (is_mesh_output(a->output)) {
       const double grow = o->bounds.empty() ? (inward ? 0.0 : outward ? a->thickness : a->thickness / 2) : 0.0;
-      const Box3 region = input_region(a->input, Tape::compile(*m.graph, m.root), *o).inflated(grow);
+      const Box3 region = input_region(a->input, converted, Tape::compile(*m.graph, m.root), *o).inflated(grow);
       const Vec3 size = region.size();
       const double cell = std::max({size.x, size.y, size.z}) / o->resolution;
       if (!o->quiet && a->thickness < 2 * cell)

@@ -2,7 +2,6 @@
 #include "field_output.hpp"
 
 #include <fmt/core.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -10,6 +9,7 @@
 #include "frep/contour/bounds.hpp"
 #include "frep/contour/mesher.hpp"
 #include "frep/error.hpp"
+#include "frep/io/atomic_file.hpp"
 #include "frep/io/save.hpp"
 #include "frep/mesh/mesh_io.hpp"
 
@@ -67,27 +67,16 @@ void check_field_output(const std::string& path) {
       throw InputError(path, 0, "unknown output format: use .stl, .obj or .ply (a mesh) or .vm, .rhai or .frep (the expression)");
     }
   }
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  std::error_code ec;
-  if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
-    throw InputError(path, 0, "cannot write: directory " + parent.string() + " does not exist");
-  if (::access(parent.empty() ? "." : parent.c_str(), W_OK) != 0)
-    throw InputError(path, 0, "cannot write: directory " + (parent.empty() ? std::string(".") : parent.string()) +
-                                  " is not writable");
+  check_output_directory(path);
 }
 
-Box3 input_region(const std::string& input, const Tape& tape, const FieldOutputOptions& o) {
+Box3 input_region(const std::string& input, const ConvertStats& converted, const Tape& tape,
+                  const FieldOutputOptions& o) {
   if (!o.bounds.empty())
     return Box3{{o.bounds[0], o.bounds[1], o.bounds[2]}, {o.bounds[3], o.bounds[4], o.bounds[5]}};
-  if (format_from_extension(input) != MeshFormat::Unknown) {
-    // A mesh: its bounding box (read again, which is quick next to converting it). The interval
-    // search on big converted meshes takes far more memory and time.
-    const TriMesh mesh = read_mesh(input);
-    Box3 box;
-    for (const Triangle& t : mesh.triangles)
-      for (std::uint32_t v : t) box.add(mesh.vertices[v]);
-    if (!box.empty()) return box;
-  }
+  // A converted mesh: its bounding box (the interval search on big converted meshes takes far
+  // more memory and time).
+  if (converted.triangles > 0 && !converted.box.empty()) return converted.box;
   BoundsSearchOptions bs;
   bs.threads = o.threads;
   BoundsResult b;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "frep/convert/convert.hpp"
 #include "frep/eval/tape.hpp"
 #include "frep/expr/graph.hpp"
 #include "frep/math/vec.hpp"
@@ -37,9 +38,11 @@ bool is_mesh_output(const std::string& path);
 // extension or its directory cannot be written.
 void check_field_output(const std::string& path);
 
-// A box holding the input's inside: `bounds` if given, a mesh file's bounding box, else found by
-// interval search of the tape. InputError naming `input` if the field is unbounded or empty.
-Box3 input_region(const std::string& input, const Tape& tape, const FieldOutputOptions& o);
+// A box holding the input's inside: `bounds` if given, a converted mesh's bounding box
+// (`converted`, from load_input), else found by interval search of the tape. InputError naming
+// `input` if the field is unbounded or empty.
+Box3 input_region(const std::string& input, const ConvertStats& converted, const Tape& tape,
+                  const FieldOutputOptions& o);
 
 // Writes the field `root` of `g` to `path`: as an expression, or meshed by dual contouring with
 // `region` as the known box of its inside (one extra cell on every side), or over the given

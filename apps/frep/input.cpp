@@ -6,9 +6,10 @@
 
 namespace frep::cli {
 
-Model load_input(const std::string& path) {
+Model load_input(const std::string& path, ConvertStats* stats) {
   ConvertStats s;
   Model m = load_field(path, {}, &s);
+  if (stats) *stats = s;
   if (s.triangles > 0)
     fmt::print(stderr, "frep: converted {} ({} triangles) to an expression of {} nodes in {:.2f} s\n", path,
                s.triangles, s.nodes, s.seconds);

@@ -4,11 +4,13 @@
 
 #include <string>
 
+#include "frep/convert/convert.hpp"
 #include "frep/expr/model.hpp"
 
 namespace frep::cli {
 
-Model load_input(const std::string& path);
+// `stats`, when given, receives the conversion's figures (triangles = 0 for an expression file).
+Model load_input(const std::string& path, ConvertStats* stats = nullptr);
 
 // Help text for such an input argument.
 inline constexpr const char* kFieldInputHelp =

@@ -113,6 +113,8 @@ ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
   st.flat_regions = f.regions.size();
   for (const Region& reg : f.regions) st.polygons += reg.polygons.size();
   st.edge_terms = f.edges.size();
+  for (const Triangle& t : m.triangles)
+    for (std::uint32_t v : t) st.box.add(m.vertices[v]);
 
   // The frame (see Frame): a mesh far from the origin (its centre farther than its diagonal)
   // works relative to its centre; huge or tiny ones (beyond 2^+-20) in units of a power of two

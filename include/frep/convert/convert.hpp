@@ -54,6 +54,7 @@ struct ConvertStats {
   std::size_t tetrahedra = 0;      // TetGen's tetrahedra (SignMode::Tetrahedra)
   std::size_t nodes = 0;           // nodes of the expression
   double seconds = 0;              // wall time of the conversion, check included
+  Box3 box;                        // bounding box of the triangles' corners (the solid's extent)
 };
 
 struct ConvertResult {
