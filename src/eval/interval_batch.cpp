@@ -10,12 +10,14 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
+#include <bit>
 #include <cstdlib>
 #include <cstring>
 #include <optional>
 
 #include "eval/simd_ops-inl.h"
 
+#include "eval/caps.hpp"
 #include "eval/interval_ops.hpp"
 #include "frep/error.hpp"
 #include "eval/tape_builder.hpp"
@@ -200,6 +202,7 @@ IntervalBatchEvaluator::IntervalBatchEvaluator() = default;
 IntervalBatchEvaluator::~IntervalBatchEvaluator() {
   std::free(lo_);
   std::free(hi_);
+  std::free(scratch_);
 }
 
 void IntervalBatchEvaluator::eval(const Tape& tape, const Interval* x, const Interval* y, const Interval* z,
@@ -210,10 +213,12 @@ void IntervalBatchEvaluator::eval(const Tape& tape, const Interval* x, const Int
   if (n > capacity_) {
     std::free(lo_);
     std::free(hi_);
+    std::free(scratch_);
     const std::size_t bytes = n * kLanes * sizeof(float);
     lo_ = static_cast<float*>(std::aligned_alloc(64, bytes));
     hi_ = static_cast<float*>(std::aligned_alloc(64, bytes));
-    if (!lo_ || !hi_) throw std::bad_alloc();
+    scratch_ = static_cast<std::uint32_t*>(std::aligned_alloc(64, bytes));
+    if (!lo_ || !hi_ || !scratch_) throw std::bad_alloc();
     capacity_ = n;
     left_.resize(n);
     right_.resize(n);
@@ -234,39 +239,109 @@ void IntervalBatchEvaluator::eval(const Tape& tape, const Interval* x, const Int
   HWY_DYNAMIC_DISPATCH(EvalBoxes)(tape.ssa().data(), n, lo_, hi_, left_.data(), right_.data(), fold_.data(), box);
 }
 
-void IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t lanes, Tape* outs, bool registers) {
+std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t lanes, Tape* outs, bool registers,
+                                              double max_kept) {
   const std::size_t n = size_;
   FREP_ASSERT(tape.size() == n, "simplify needs the tape of the last eval");
   lanes &= (1u << kLanes) - 1;
-  if (!lanes) return;
+  if (!lanes) return 0;
   const SsaInstr* in = tape.ssa().data();
-  // Backward pass for all boxes at once: live_[i] has a bit for each box that needs instruction i.
+  // Backward pass for all boxes at once: live_[i] has a bit for each box that needs instruction
+  // i; fin_[i] a bit for each of those where its cap (eval/caps.hpp) is finite, held in scratch_.
   live_.assign(n, 0);
+  if (fin_.size() < n) fin_.resize(n);
+  if (sides_.size() < 2 * n) sides_.resize(2 * n);
   live_[n - 1] = static_cast<std::uint16_t>(lanes);
+  fin_[n - 1] = 0;
+  std::uint16_t* live = live_.data();
+  std::uint16_t* fin = fin_.data();
+  // Caps are kept as float bits in the scratch that the forward pass then uses for its remaps.
+  std::uint32_t* caps = scratch_;
+  const auto cap_of = [&](std::size_t j, int k) { return std::bit_cast<float>(caps[j * kLanes + static_cast<std::size_t>(k)]); };
+  std::size_t kept[kLanes] = {};  // per box: live instructions, the most its tape can keep
+  const auto use_uncapped = [&](std::uint32_t j, std::uint32_t bits) {
+    fin[j] = static_cast<std::uint16_t>(fin[j] & ~bits);
+    live[j] = static_cast<std::uint16_t>(live[j] | bits);
+  };
+  const auto use = [&](std::uint32_t j, int k, float c) {
+    const std::uint32_t bit = 1u << k;
+    if (!(c < caps::kNone)) return use_uncapped(j, bit);
+    std::uint32_t& slot = caps[static_cast<std::size_t>(j) * kLanes + static_cast<std::size_t>(k)];
+    if (!(live[j] & bit)) {
+      slot = std::bit_cast<std::uint32_t>(c);
+      fin[j] = static_cast<std::uint16_t>(fin[j] | bit);
+    } else if (fin[j] & bit) {
+      slot = std::bit_cast<std::uint32_t>(std::max(std::bit_cast<float>(slot), c));
+    }
+    live[j] = static_cast<std::uint16_t>(live[j] | bit);
+  };
+  // Passes instruction i's own caps on to j for the boxes in `bits`.
+  const auto pass = [&](std::size_t i, std::uint32_t j, std::uint32_t bits) {
+    use_uncapped(j, bits & ~static_cast<std::uint32_t>(fin[i]));
+    for (std::uint32_t b = bits & fin[i]; b; b &= b - 1) {
+      const int k = __builtin_ctz(b);
+      use(j, k, cap_of(i, k));
+    }
+  };
   for (std::size_t i = n; i-- > 0;) {
-    const std::uint32_t m = live_[i];
+    const std::uint32_t m = live[i];
     if (!m) continue;
+    for (std::uint32_t bits = m; bits; bits &= bits - 1) ++kept[__builtin_ctz(bits)];
     const SsaInstr& ins = in[i];
     const int ar = op_arity(ins.op);
     if (ar == 0) continue;
     const std::uint32_t rest = m & ~static_cast<std::uint32_t>(fold_[i]);
-    if (op_is_choice(ins.op)) {
+    if (ins.op == Op::Min || ins.op == Op::Max) {
+      std::uint32_t l = rest & left_[i], r = rest & right_[i], both = rest & ~(l | r);
+      if (ins.op == Op::Min) {
+        for (std::uint32_t bits = both; bits; bits &= bits - 1) {
+          const int k = __builtin_ctz(bits);
+          const std::size_t ak = static_cast<std::size_t>(ins.a) * kLanes + k;
+          const std::size_t bk = static_cast<std::size_t>(ins.b) * kLanes + k;
+          const float c = fin[i] >> k & 1 ? cap_of(i, k) : caps::kNone;
+          const caps::MinCaps mc = caps::min_caps(c, lo_[ak], hi_[ak], lo_[bk], hi_[bk]);
+          if (mc.choice == Choice::Left) {
+            l |= 1u << k;
+          } else if (mc.choice == Choice::Right) {
+            r |= 1u << k;
+          } else {
+            use(ins.a, k, mc.cap_a);
+            use(ins.b, k, mc.cap_b);
+          }
+        }
+        both &= ~(l | r);
+      } else {
+        pass(i, ins.a, both);
+        pass(i, ins.b, both);
+      }
+      pass(i, ins.a, l);
+      pass(i, ins.b, r);
+      sides_[2 * i] = static_cast<std::uint16_t>(l);
+      sides_[2 * i + 1] = static_cast<std::uint16_t>(r);
+    } else if (op_is_choice(ins.op)) {
       const std::uint32_t l = rest & left_[i], r = rest & right_[i], both = rest & ~(l | r);
-      live_[ins.a] |= static_cast<std::uint16_t>(l | both);
-      live_[ins.b] |= static_cast<std::uint16_t>(r | both);
+      use_uncapped(ins.a, l | both);
+      use_uncapped(ins.b, r | both);
+      sides_[2 * i] = static_cast<std::uint16_t>(l);
+      sides_[2 * i + 1] = static_cast<std::uint16_t>(r);
     } else {
-      live_[ins.a] |= static_cast<std::uint16_t>(rest);
-      if (ar == 2) live_[ins.b] |= static_cast<std::uint16_t>(rest);
+      use_uncapped(ins.a, rest);
+      if (ar == 2) use_uncapped(ins.b, rest);
     }
   }
+  for (std::uint32_t bits = lanes; bits; bits &= bits - 1) {
+    const int k = __builtin_ctz(bits);
+    if (static_cast<double>(kept[k]) > max_kept * static_cast<double>(n)) lanes &= ~(1u << k);
+  }
+  if (!lanes) return 0;
   // Forward pass: each box's builder sees only the instructions it needs.
   std::optional<Tape::Builder> builders[kLanes];
   for (std::uint32_t bits = lanes; bits; bits &= bits - 1) {
     const int k = __builtin_ctz(bits);
-    builders[k].emplace(outs[k], n, registers);
+    builders[k].emplace(outs[k], n, registers, kept[k], scratch_ + k, kLanes);
   }
   for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t m = live_[i];
+    const std::uint32_t m = live_[i] & lanes;
     if (!m) continue;
     const SsaInstr& ins = in[i];
     if (op_arity(ins.op) == 0) {
@@ -276,7 +351,7 @@ void IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t lanes, Tap
     const std::uint32_t f = m & fold_[i];
     const std::uint32_t rest = m & ~f;
     const bool choice = op_is_choice(ins.op);
-    const std::uint32_t l = choice ? rest & left_[i] : 0, r = choice ? rest & right_[i] : 0;
+    const std::uint32_t l = choice ? rest & sides_[2 * i] : 0, r = choice ? rest & sides_[2 * i + 1] : 0;
     const std::uint32_t keep = rest & ~(l | r);
     for (std::uint32_t bits = f; bits; bits &= bits - 1) {
       const int k = __builtin_ctz(bits);
@@ -287,6 +362,7 @@ void IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t lanes, Tap
     for (std::uint32_t bits = keep; bits; bits &= bits - 1) builders[__builtin_ctz(bits)]->keep(i, ins);
   }
   for (std::uint32_t bits = lanes; bits; bits &= bits - 1) builders[__builtin_ctz(bits)]->finish(n - 1);
+  return lanes;
 }
 
 }  // namespace frep

@@ -1,6 +1,9 @@
 #include "frep/eval/tape.hpp"
 
+#include <algorithm>
+
 #include "frep/error.hpp"
+#include "eval/caps.hpp"
 #include "eval/tape_builder.hpp"
 #include "frep/expr/semantics.hpp"
 
@@ -67,10 +70,18 @@ void Tape::rebuild(std::span<const SsaInstr> src, const Interval* values, const 
   const std::size_t n = src.size();
   FREP_ASSERT(n > 0, "empty tape");
   const SsaInstr* in = src.data();
-  // Backward pass: what each instruction the root needs becomes.
+  // Backward pass: what each instruction the root needs becomes, and its cap (eval/caps.hpp).
   out.state_.assign(n, kDead);
   std::uint8_t* st = out.state_.data();
+  if (values && out.caps_.size() < n) out.caps_.resize(n);
+  float* cap = out.caps_.data();
   st[n - 1] = kLive;
+  if (values) cap[n - 1] = caps::kNone;
+  // Marks j live with cap c (the largest of its caps so far). Below i, only kDead or kLive are set yet.
+  const auto use = [&](std::uint32_t j, float c) {
+    if (values) cap[j] = st[j] == kDead ? c : std::max(cap[j], c);
+    st[j] |= kLive;
+  };
   for (std::size_t i = n; i-- > 0;) {
     if (st[i] == kDead) continue;
     const SsaInstr& ins = in[i];
@@ -80,16 +91,36 @@ void Tape::rebuild(std::span<const SsaInstr> src, const Interval* values, const 
         st[i] = kConst;
         continue;
       }
-      if (op_is_choice(ins.op) && choices[i] != Choice::Both) {
-        const bool left = choices[i] == Choice::Left;
-        st[i] = left ? kLeft : kRight;
-        st[left ? ins.a : ins.b] |= kLive;  // below i, only kDead or kLive are set yet
+      if (op_is_choice(ins.op)) {
+        Choice c = choices[i];
+        const float ci = cap[i];
+        if (ins.op == Op::Min && c == Choice::Both) {
+          const caps::MinCaps mc = caps::min_caps(ci, values[ins.a].lo, values[ins.a].hi, values[ins.b].lo,
+                                                  values[ins.b].hi);
+          c = mc.choice;
+          if (c == Choice::Both) {
+            st[i] = kKeep;
+            use(ins.a, mc.cap_a);
+            use(ins.b, mc.cap_b);
+            continue;
+          }
+        }
+        const bool passes = ins.op == Op::Min || ins.op == Op::Max;
+        if (c != Choice::Both) {
+          const bool left = c == Choice::Left;
+          st[i] = left ? kLeft : kRight;
+          use(left ? ins.a : ins.b, passes ? ci : caps::kNone);
+          continue;
+        }
+        st[i] = kKeep;
+        use(ins.a, passes ? ci : caps::kNone);
+        use(ins.b, passes ? ci : caps::kNone);
         continue;
       }
     }
     st[i] = kKeep;
-    if (ar >= 1) st[ins.a] |= kLive;
-    if (ar >= 2) st[ins.b] |= kLive;
+    if (ar >= 1) use(ins.a, caps::kNone);
+    if (ar >= 2) use(ins.b, caps::kNone);
   }
   // Forward pass.
   Builder b(out, n, registers);
@@ -120,7 +151,14 @@ void Tape::allocate_registers() {
     return;
   }
   // Last use of every value (the root is never freed).
-  std::vector<std::uint32_t> last_use(m, 0), reg(m, 0), free_regs;
+  // Scratch kept in the tape (simplification into it reuses it, without new pages each time).
+  if (remap_.size() < m) remap_.resize(m);
+  if (last_use_.size() < m) last_use_.resize(m);
+  std::uint32_t* reg = remap_.data();
+  std::uint32_t* last_use = last_use_.data();
+  std::fill(last_use, last_use + m, 0u);
+  std::vector<std::uint32_t>& free_regs = free_regs_;
+  free_regs.clear();
   for (std::size_t i = 0; i < m; ++i) {
     const int ar = op_arity(ssa_[i].op);
     if (ar >= 1) last_use[ssa_[i].a] = static_cast<std::uint32_t>(i);

@@ -2,6 +2,9 @@
 // over a source tape. Shared by single-box and 16-box simplification.
 #pragma once
 
+#include <algorithm>
+#include <cstdint>
+
 #include "frep/error.hpp"
 #include "frep/eval/tape.hpp"
 #include "frep/expr/semantics.hpp"
@@ -16,24 +19,33 @@ inline constexpr std::size_t kMaxTrivialRegisters = 384;
 // and emits register code with one register per value on the fly.
 class Tape::Builder {
  public:
-  Builder(Tape& out, std::size_t n_in, bool registers) : out_(out), registers_(registers) {
-    if (out.ssa_.size() < n_in) out.ssa_.resize(n_in);
-    if (registers && out.code_.size() < n_in) out.code_.resize(n_in);
-    if (out.remap_.size() < n_in) out.remap_.resize(n_in);
+  // `n_in`: the source tape's size; `n_out`: at most this many instructions will be kept (the
+  // output buffers need no more). `remap`: where to keep the source-to-output index map (entry i
+  // at remap[i * stride]); by default the output tape's own scratch.
+  Builder(Tape& out, std::size_t n_in, bool registers, std::size_t n_out = SIZE_MAX, std::uint32_t* remap = nullptr,
+          std::size_t stride = 1)
+      : out_(out), registers_(registers), stride_(stride) {
+    n_out = std::min(n_in, n_out);
+    if (out.ssa_.size() < n_out) out.ssa_.resize(n_out);
+    if (registers && out.code_.size() < n_out) out.code_.resize(n_out);
+    if (!remap) {
+      if (out.remap_.size() < n_in) out.remap_.resize(n_in);
+      remap = out.remap_.data();
+    }
     os_ = out.ssa_.data();
     oc_ = out.code_.data();
-    remap_ = out.remap_.data();
+    remap_ = remap;
   }
 
-  [[gnu::always_inline]] void alias(std::size_t i, std::uint32_t src) { remap_[i] = remap_[src]; }
+  [[gnu::always_inline]] void alias(std::size_t i, std::uint32_t src) { remap_[i * stride_] = remap_[src * stride_]; }
 
   [[gnu::always_inline]] void constant(std::size_t i, float v) {
-    remap_[i] = m_;
+    remap_[i * stride_] = m_;
     os_[m_++] = {Op::Const, 0, 0, v};
   }
 
   [[gnu::always_inline]] inline void keep(std::size_t i, const SsaInstr& ins) {
-    remap_[i] = m_;
+    remap_[i * stride_] = m_;
     const int ar = op_arity(ins.op);
     if (ar == 0) {
       os_[m_] = ins;
@@ -44,8 +56,8 @@ class Tape::Builder {
       ++m_;
       return;
     }
-    const std::uint32_t a = remap_[ins.a];
-    const std::uint32_t b = ar == 2 ? remap_[ins.b] : 0;
+    const std::uint32_t a = remap_[ins.a * stride_];
+    const std::uint32_t b = ar == 2 ? remap_[ins.b * stride_] : 0;
     const bool ca = os_[a].op == Op::Const;
     const bool cb = ar == 2 && os_[b].op == Op::Const;
     if (ca && (ar == 1 || cb)) {
@@ -74,7 +86,7 @@ class Tape::Builder {
     t.code_size_ = k_;
     t.choices_ = choices_;
     t.vars_ = vars_;
-    const std::uint32_t root = remap_[root_in];
+    const std::uint32_t root = remap_[root_in * stride_];
     if (root + 1 != m_) {
       // Only a constant root can end up before other (then dead) instructions.
       FREP_ASSERT(os_[root].op == Op::Const, "root is not last");
@@ -97,6 +109,7 @@ class Tape::Builder {
  private:
   Tape& out_;
   bool registers_;
+  std::size_t stride_;
   SsaInstr* os_;
   RegInstr* oc_;
   std::uint32_t* remap_;

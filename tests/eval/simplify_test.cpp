@@ -3,6 +3,7 @@
 // must stay right when re-simplified while subdividing.
 #include <gtest/gtest.h>
 
+#include "frep/eval/interval_batch.hpp"
 #include "frep/expr/expr.hpp"
 #include "frep/io/vm.hpp"
 #include "test_util.hpp"
@@ -163,6 +164,42 @@ TEST(Simplify, ConstantAndVariableRoots) {
     std::swap(a, b);
     EXPECT_EQ(pe.eval(a, 0.25f, -0.5f, 0), pe.eval(t, 0.25f, -0.5f, 0));
   }
+}
+
+// Caps (eval/caps.hpp): in min(min(a, c), b), `a` overlaps its sibling c but starts above b
+// everywhere, so it goes; through a max, and in the 16-box pass alike. A value that another,
+// uncapped use needs exactly stays.
+TEST(Simplify, CapsDropMinTermsBeyondTheNearestAnywhereInTheTree) {
+  Graph g;
+  auto x = g.x();
+  const Expr a = x + 10.0f, c = x * 100.0f, b = x;
+  const Expr root = max(min(min(a, c), b), -5.0f);
+  const Tape t = Tape::compile(g, root.id());
+  const Tape want = Tape::compile(g, min(c, b).id());  // the max goes too: its left side is >= 0
+  IntervalEvaluator ie;
+  PointEvaluator pe;
+  Tape s;
+  ie.simplify(t, {0, 1}, {0, 0}, {0, 0}, s);
+  EXPECT_EQ(s.size(), want.size());
+  IntervalBatchEvaluator batch;
+  const Interval xs[2] = {{0, 1}, {0.25f, 0.5f}}, zero[2] = {{0, 0}, {0, 0}};
+  batch.eval(t, xs, zero, zero, 2);
+  Tape outs[2];
+  EXPECT_EQ(batch.simplify(t, 3u, outs), 3u);
+  EXPECT_EQ(outs[0].size(), want.size());
+  EXPECT_EQ(outs[1].size(), 1u);  // x alone: b < c over [0.25, 0.5]
+  for (float v = 0; v <= 1; v += 0.0625f) {
+    EXPECT_EQ(pe.eval(s, v, 0, 0), pe.eval(t, v, 0, 0));
+    EXPECT_EQ(pe.eval(outs[0], v, 0, 0), pe.eval(t, v, 0, 0));
+  }
+  // `a` also added to the root: that use needs it everywhere, and min(a, c) with it.
+  const Tape t2 = Tape::compile(g, (min(min(a, c), b) + min(a, c)).id());
+  ie.simplify(t2, {0, 1}, {0, 0}, {0, 0}, s);
+  EXPECT_EQ(s.size(), t2.size());
+  for (float v = 0; v <= 1; v += 0.0625f) EXPECT_EQ(pe.eval(s, v, 0, 0), pe.eval(t2, v, 0, 0));
+  // Leaving out boxes that would keep more than a fraction of the tape.
+  batch.eval(t2, xs, zero, zero, 2);
+  EXPECT_EQ(batch.simplify(t2, 3u, outs, true, 0.5), 0u);
 }
 
 // Regression (9b2043f): max(atan(x + y), 2) over x in [1, inf], y in [-inf, -1] must not be

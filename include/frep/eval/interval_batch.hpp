@@ -40,8 +40,12 @@ class IntervalBatchEvaluator {
   }
 
   // Simplifies the last evaluated tape for every box whose bit is set in `lanes`, writing
-  // outs[lane] (see Tape::simplify). `tape` must be the tape of the last eval.
-  void simplify(const Tape& tape, std::uint32_t lanes, Tape* outs, bool registers = true);
+  // outs[lane] (see Tape::simplify). `tape` must be the tape of the last eval. Boxes that would
+  // keep more than `max_kept` of the tape's instructions are left out (`tape` serves them
+  // nearly as well, and writing a copy costs more than evaluating the rest). Returns the boxes
+  // whose tape was written.
+  std::uint32_t simplify(const Tape& tape, std::uint32_t lanes, Tape* outs, bool registers = true,
+                         double max_kept = 1.0);
 
  private:
   std::size_t size_ = 0;      // instructions of the last evaluated tape
@@ -49,7 +53,9 @@ class IntervalBatchEvaluator {
   float* lo_ = nullptr;       // [instruction][lane]
   float* hi_ = nullptr;
   std::vector<std::uint16_t> left_, right_, fold_;  // per instruction: lane bit masks
-  std::vector<std::uint16_t> live_;                 // scratch for simplify
+  std::uint32_t* scratch_ = nullptr;  // [instruction][lane], for simplify: caps, then remaps
+  std::vector<std::uint16_t> live_, fin_;           // scratch for simplify
+  std::vector<std::uint16_t> sides_;  // scratch for simplify: per instruction, boxes keeping only a, only b
 };
 
 }  // namespace frep

@@ -106,7 +106,9 @@ class Subdivider {
   // copy, and groups hold fewer boxes, so that a level keeps at most about kGroupInstructions
   // instructions of children's tapes at once (not 16 copies of a multi-million-node tape).
   static constexpr std::size_t kBigTape = std::size_t{1} << 18;
-  static constexpr std::size_t kGroupInstructions = std::size_t{1} << 22;
+  static constexpr std::size_t kGroupInstructions = std::size_t{1} << 26;
+  // A child of a big tape keeping more than this fraction of it uses the parent's tape.
+  static constexpr double kMaxKept = 0.625;
   static int group_lanes(const Tape& t) {
     return static_cast<int>(std::clamp<std::size_t>(kGroupInstructions / std::max<std::size_t>(t.size(), 1), 1, kLanes));
   }
@@ -122,6 +124,12 @@ class Subdivider {
   // Splits `parent` (valid tape `t`) into boxes of level `level`, 16 at a time: one interval pass
   // settles them or not, one shared pass simplifies `t` for the others into outs(group), and
   // next(child) receives each unsettled child.
+  // Evaluates `count` boxes of one level on `t` (valid in all of them) in one interval pass,
+  // simplifies `t` for those not settled into dst[k], and passes each to next(child). With
+  // `release`, next() is done with a child when it returns, and big children's tapes go back.
+  template <class Visitor, class Next>
+  void settle(Worker& w, const Tape& t, const SampleGrid& grid, bool last, const IndexBox* boxes, int count,
+              Visitor& v, int worker, Tape* dst, Next&& next, bool release = true);
   template <class Visitor, class Outs, class Next>
   void split(Worker& w, const Tape& t, const SampleGrid& grid, int level, const IndexBox& parent, Visitor& v,
              int worker, Outs&& outs, Next&& next);
@@ -135,6 +143,40 @@ class Subdivider {
 // ---------------------------------------------------------------------------------------------
 // Implementation (a template: the visitor's calls inline into the loops).
 
+template <class Visitor, class Next>
+void Subdivider::settle(Worker& w, const Tape& t, const SampleGrid& grid, bool last, const IndexBox* boxes, int count,
+                        Visitor& v, int worker, Tape* dst, Next&& next, bool release) {
+  Interval xi[kLanes], yi[kLanes], zi[kLanes];
+  for (int k = 0; k < count; ++k) {
+    xi[k] = grid.range(0, boxes[k].lo[0], boxes[k].hi[0]);
+    yi[k] = grid.range(1, boxes[k].lo[1], boxes[k].hi[1]);
+    zi[k] = grid.range(2, boxes[k].lo[2], boxes[k].hi[2]);
+  }
+  w.boxes.eval(t, xi, yi, zi, count);
+  std::uint32_t open = 0;
+  for (int k = 0; k < count; ++k)
+    if (!v.settled(worker, boxes[k], w.boxes.result(k))) open |= 1u << k;
+  if (!open) return;
+  // Nothing to prune without choices, unless the children need register code; nothing to
+  // simplify for leaves that do not use their tape.
+  bool leaf_tape = true;
+  if constexpr (requires { Visitor::leaf_tape(); }) leaf_tape = Visitor::leaf_tape();
+  const bool reuse = (t.choice_count() == 0 && (!last || !t.code().empty())) || (last && !leaf_tape);
+  // A child that keeps most of a big parent uses the parent (valid in the child's box): writing
+  // a copy of millions of instructions costs more than evaluating the rest (converted meshes at
+  // the coarse levels).
+  const bool parent_serves = t.size() >= kBigTape && (!last || !t.code().empty());
+  const std::uint32_t built = reuse ? 0 : w.boxes.simplify(t, open, dst, last, parent_serves ? kMaxKept : 1.0);
+  for (std::uint32_t bits = open; bits; bits &= bits - 1) {
+    const int k = __builtin_ctz(bits);
+    const Tape* child = built >> k & 1 ? &dst[k] : &t;
+    next(Item{boxes[k], child});
+    // A big child's tape goes back once it is done with (its buffers would otherwise stay at
+    // their high-water mark in this slot for the rest of the run).
+    if (release && child == &dst[k] && dst[k].size() >= kBigTape) dst[k] = Tape();
+  }
+}
+
 template <class Visitor, class Outs, class Next>
 void Subdivider::split(Worker& w, const Tape& t, const SampleGrid& grid, int level, const IndexBox& parent,
                        Visitor& v, int worker, Outs&& outs, Next&& next) {
@@ -142,34 +184,9 @@ void Subdivider::split(Worker& w, const Tape& t, const SampleGrid& grid, int lev
   const bool last = level + 1 == static_cast<int>(options_.tiles.size());
   const int lanes = group_lanes(t);
   IndexBox boxes[kLanes];
-  Interval xi[kLanes], yi[kLanes], zi[kLanes];
   int count = 0, group = 0;
   auto flush = [&] {
-    w.boxes.eval(t, xi, yi, zi, count);
-    std::uint32_t open = 0;
-    for (int k = 0; k < count; ++k)
-      if (!v.settled(worker, boxes[k], w.boxes.result(k))) open |= 1u << k;
-    if (open) {
-      // Nothing to prune without choices, unless the children need register code; nothing to
-      // simplify for leaves that do not use their tape.
-      bool leaf_tape = true;
-      if constexpr (requires { Visitor::leaf_tape(); }) leaf_tape = Visitor::leaf_tape();
-      const bool reuse = (t.choice_count() == 0 && (!last || !t.code().empty())) || (last && !leaf_tape);
-      Tape* dst = outs(group);
-      if (!reuse) w.boxes.simplify(t, open, dst, last);
-      for (std::uint32_t bits = open; bits; bits &= bits - 1) {
-        const int k = __builtin_ctz(bits);
-        const Tape* child = reuse ? &t : &dst[k];
-        // A child that keeps nearly all of a big parent: the parent serves (it is valid in the
-        // child's box), and the copy's memory goes back (converted meshes: millions of
-        // instructions at the coarse levels).
-        if (!reuse && t.size() >= kBigTape && dst[k].size() * 8 > t.size() * 7 && (!last || !t.code().empty())) {
-          dst[k] = Tape();
-          child = &t;
-        }
-        next(Item{boxes[k], child});
-      }
-    }
+    settle(w, t, grid, last, boxes, count, v, worker, outs(group), next);
     count = 0;
     ++group;
   };
@@ -182,9 +199,6 @@ void Subdivider::split(Worker& w, const Tape& t, const SampleGrid& grid, int lev
         if constexpr (requires { v.skip(worker, b); }) {
           if (v.skip(worker, b)) continue;
         }
-        xi[count] = grid.range(0, b.lo[0], b.hi[0]);
-        yi[count] = grid.range(1, b.lo[1], b.hi[1]);
-        zi[count] = grid.range(2, b.lo[2], b.hi[2]);
         if (++count == lanes) flush();
       }
   if (count) flush();
@@ -229,14 +243,40 @@ void Subdivider::run(const Tape& tape, const SampleGrid& grid, const IndexBox& r
               next.push_back({{x, y, z}, {std::min(x + step, p.hi[0]), std::min(y + step, p.hi[1]), std::min(z + step, p.hi[2])}});
       top = std::move(next);
     }
-    pool_->parallel_for(static_cast<int>(top.size()), [&](int wi, int i) {
+    // The top boxes in groups, each group in one interval pass on the whole tape; then the open
+    // ones descend in parallel, each from its own simplified tape.
+    const bool last = start + 1 == levels;
+    const std::size_t lanes = static_cast<std::size_t>(group_lanes(tape));
+    const std::size_t groups = (top.size() + lanes - 1) / lanes;
+    if (frontier_tapes_.empty()) frontier_tapes_.resize(1);
+    std::vector<Tape>& store = frontier_tapes_[0];
+    if (store.size() < groups * kLanes) store.resize(groups * kLanes);
+    std::vector<std::vector<Item>> parts(groups);
+    pool_->parallel_for(static_cast<int>(groups), [&](int wi, int g) {
       Worker& w = *workers_[static_cast<std::size_t>(wi)];
-      split(w, tape, grid, start, top[static_cast<std::size_t>(i)], v, wi,
-            [&](int) { return w.tapes[static_cast<std::size_t>(start)].data(); }, [&](const Item& child) {
-              if (start + 1 == levels) v.leaf(wi, *child.tape, child.box);
-              else descend(descend, wi, child, start);
-            });
+      const std::size_t gi = static_cast<std::size_t>(g);
+      IndexBox boxes[kLanes];
+      int count = 0;
+      for (std::size_t i = gi * lanes; i < std::min(top.size(), (gi + 1) * lanes); ++i) {
+        if constexpr (requires { v.skip(wi, top[i]); }) {
+          if (v.skip(wi, top[i])) continue;
+        }
+        boxes[count++] = top[i];
+      }
+      if (!count) return;
+      settle(w, tape, grid, last, boxes, count, v, wi, &store[gi * kLanes], [&](const Item& child) {
+        if (last) v.leaf(wi, *child.tape, child.box);
+        else parts[gi].push_back(child);
+      }, /*release=*/last);
     });
+    if (!last) {
+      std::vector<Item> items;
+      for (auto& p : parts) items.insert(items.end(), p.begin(), p.end());
+      pool_->parallel_for(static_cast<int>(items.size()),
+                          [&](int wi, int i) { descend(descend, wi, items[static_cast<std::size_t>(i)], start); });
+    }
+    for (Tape& t : store)
+      if (t.size() >= kBigTape) t = Tape();
     return;
   }
 

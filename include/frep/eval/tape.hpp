@@ -84,6 +84,8 @@ class Tape {
   std::uint8_t vars_ = 0;
   std::vector<std::uint32_t> remap_;  // scratch for simplification into this tape
   std::vector<std::uint8_t> state_;   // scratch for simplification into this tape
+  std::vector<float> caps_;           // scratch for simplification into this tape
+  std::vector<std::uint32_t> last_use_, free_regs_;  // scratch for register allocation
 };
 
 }  // namespace frep

@@ -1,0 +1,49 @@
+// Upper caps for simplification (private to the evaluation code), shared by single-box and
+// 16-box simplification so both make the same choices.
+//
+// An instruction's cap C over a box says: the root does not change if the instruction's value is
+// replaced by any value that equals it wherever it is <= C and stays > C wherever it is > C. The
+// root's cap is +inf (its value must stay exact). In min(a, b) with cap C, a matters only
+// below min(C, hi(b)): above hi(b), b wins anyway. So a min side whose interval starts above its
+// cap can go, although it may overlap its sibling: far terms of a big min tree are dropped
+// against the nearest term anywhere in the tree, not only against their direct sibling. Max
+// passes its cap to both sides; every other op gives its arguments +inf. A value used several
+// times gets the largest of its caps.
+#pragma once
+
+#include <algorithm>
+#include <limits>
+
+#include "frep/eval/interval.hpp"
+
+namespace frep::caps {
+
+inline constexpr float kNone = std::numeric_limits<float>::infinity();
+
+// An interval's upper bound as a cap: +inf if unknown.
+inline float upper(float lo, float hi) { return lo <= hi ? hi : kNone; }
+
+// min(a, b) under cap c, where the interval evaluation kept both sides: which side alone is
+// enough (Choice::Both if neither), and the caps of the sides if both stay.
+struct MinCaps {
+  Choice choice = Choice::Both;
+  float cap_a = kNone;
+  float cap_b = kNone;
+};
+
+inline MinCaps min_caps(float c, float alo, float ahi, float blo, float bhi) {
+  MinCaps r;
+  r.cap_a = std::min(c, upper(blo, bhi));
+  r.cap_b = std::min(c, upper(alo, ahi));
+  // Comparisons with NaN (unknown intervals) are false: no choice.
+  if (blo > r.cap_b) {
+    r.choice = Choice::Left;
+    r.cap_a = c;
+  } else if (alo > r.cap_a) {
+    r.choice = Choice::Right;
+    r.cap_b = c;
+  }
+  return r;
+}
+
+}  // namespace frep::caps
