@@ -182,12 +182,26 @@ NodeId ExprBuilder::edge_term(const EdgeTerm& e) {
                    g_.unary(Op::Square, w[2]));
 }
 
-NodeId ExprBuilder::vertex_term(const VertexTerm& v) {
-  const auto& o = offset(v.v);
+NodeId ExprBuilder::vertex_d2(std::uint32_t v) {
+  const auto& o = offset(v);
   // Same association as an edge's |w|^2 at this end, so the unshrunk values would be equal.
-  const NodeId d2 = g_.binary(Op::Add, g_.binary(Op::Add, g_.unary(Op::Square, o[0]), g_.unary(Op::Square, o[1])),
-                              g_.unary(Op::Square, o[2]));
-  return g_.binary(Op::Mul, d2, g_.constant(kVertexShrink));
+  return g_.binary(Op::Add, g_.binary(Op::Add, g_.unary(Op::Square, o[0]), g_.unary(Op::Square, o[1])),
+                   g_.unary(Op::Square, o[2]));
+}
+
+NodeId ExprBuilder::vertex_term(const VertexTerm& v) {
+  return g_.binary(Op::Mul, vertex_d2(v.v), g_.constant(kVertexShrink));
+}
+
+NodeId ExprBuilder::vertex_bound(const std::vector<std::uint32_t>& vertices, const Box3& box, double extent) {
+  FREP_ASSERT(!vertices.empty(), "a bound without vertices");
+  std::vector<Vec3> at(vertices.size());
+  for (std::size_t i = 0; i < vertices.size(); ++i) at[i] = pts_[vertices[i]];
+  const std::vector<std::uint32_t> order = morton_order(at, box);
+  const NodeId v = balanced_tree<NodeId>(vertices.size(), [&](std::size_t i) { return vertex_d2(vertices[order[i]]); },
+                                         [&](NodeId a, NodeId b) { return g_.binary(Op::Min, a, b); });
+  const float slack = static_cast<float>(0x1p-28 * extent * extent);
+  return g_.binary(Op::Add, g_.binary(Op::Mul, v, g_.constant(1.0f + 0x1p-8f)), g_.constant(slack));
 }
 
 Term ExprBuilder::split(NodeId d2, NodeId sigma, const Vec3& at) {

@@ -56,6 +56,14 @@ class ExprBuilder {
   // Term).
   Term distance(bool signed_terms, const Box3& box);
 
+  // min over `vertices` of |p - v|^2, grown by 2^-8 of itself plus (2^-14 extent)^2: an upper
+  // bound of the squared distance (the vertices lie on the surface) that stays above the computed
+  // distance despite its roundings (near a vertex, the terms of its edges or of the flat region
+  // around it compute |p - v|^2 with an error below 2^-20 of itself plus 2^-30 extent^2). Its
+  // interval over a box is tight, so min(P, bound) lets interval pruning drop every term that
+  // starts beyond it (see eval/caps.hpp). `extent` bounds the vertices' coordinates.
+  NodeId vertex_bound(const std::vector<std::uint32_t>& vertices, const Box3& box, double extent);
+
   // The plane value (p - anchor) . normal of a region: negative behind (inside) it.
   NodeId plane(std::uint32_t region);
   // (p - v) . c for a point v and a coefficient vector c.
@@ -74,6 +82,7 @@ class ExprBuilder {
   NodeId region_term(std::uint32_t r);
   NodeId edge_term(const EdgeTerm& e);
   NodeId vertex_term(const VertexTerm& v);
+  NodeId vertex_d2(std::uint32_t v);
   Term build(const TermSpec& spec, bool signed_terms, const Box3& box);
   // A signed term from its squared distance and its sign test (see Term).
   Term split(NodeId d2, NodeId sigma, const Vec3& at);

@@ -28,6 +28,18 @@ void report(const ConvertOptions& o, const char* stage, double fraction) {
 // Inside test from the tetrahedra: M = max over tetrahedra of the min of their four inward plane
 // values, >= 0 inside the union. Surface faces use the regions' own planes (exactly 0 on the
 // surface); a face between two tetrahedra is one value, negated for one of them.
+// The vertices of the vertex bound (see ExprBuilder::vertex_bound): the ends of crease edges and
+// the vertex terms' vertices. Not the vertices inside flat regions, so that the tessellation of
+// flat faces still costs nothing; the bound holds for any set of surface points.
+std::vector<std::uint32_t> bound_vertices(const Features& f) {
+  std::vector<std::uint32_t> vs;
+  for (const EdgeTerm& e : f.edges) vs.push_back(e.a), vs.push_back(e.b);
+  for (const VertexTerm& v : f.vertices) vs.push_back(v.v);
+  std::sort(vs.begin(), vs.end());
+  vs.erase(std::unique(vs.begin(), vs.end()), vs.end());
+  return vs;
+}
+
 NodeId inside_measure(ExprBuilder& b, const TriMesh& m, const Features& f, const Tetrahedralization& tz) {
   Graph& g = b.graph();
   using Key = std::array<std::uint32_t, 3>;
@@ -168,7 +180,17 @@ ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
   };
   if (o.sign == SignMode::Pseudonormal) {
     ExprBuilder b(g, points, f, margin, frame);
-    const Term root = b.distance(true, box);
+    Term root = b.distance(true, box);
+    // The vertex bound B (see vertex_bound) is above the computed min(P, N) everywhere, and so is
+    // 4 B: where P <= N, min(P, 4 B) = P; where P > N, min(P, 4 B) and min(N, 4 B) = N keep their
+    // order. So the field is unchanged bit for bit, and interval pruning drops every term of P
+    // and N beyond 4 B over a box. The factor 4 (twice the distance) keeps the sign decidable by
+    // intervals: deep inside, where every term of P is gated, min(P, 4 B) = 4 B, whose interval
+    // lies above N's over boxes more than about three box widths from the surface (1 B would
+    // touch N's, and the sign would stay open everywhere).
+    const NodeId bound = g.binary(Op::Mul, b.vertex_bound(bound_vertices(f), box, extent / s), g.constant(4.0f));
+    root.d2 = g.binary(Op::Min, root.d2, bound);
+    root.neg = g.binary(Op::Min, root.neg, bound);
     // sqrt(P) where P <= N, else -sqrt(N): compare(P, N) > 0 exactly where the nearest feature is
     // an inside one.
     const Expr inside = max(compare(Expr(g, root.d2), Expr(g, root.neg)), 0.0f);
@@ -180,7 +202,8 @@ ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
     for (EdgeTerm& e : uf.edges) e.interpolate = false;
     ExprBuilder b(g, points, uf, margin, frame);
     const Term root = b.distance(false, box);
-    const Expr dist(g, g.unary(Op::Sqrt, root.d2));
+    // min(U, vertex bound) = U (see above).
+    const Expr dist(g, g.unary(Op::Sqrt, g.binary(Op::Min, root.d2, b.vertex_bound(bound_vertices(f), box, extent / s))));
     // compare(M, 0) + 1 is non-zero exactly where M >= 0: inside.
     const Expr inside = compare(Expr(g, inside_measure(b, m, uf, tz)), 0.0f) + 1.0f;
     r.model.root = with_box_bound(b, if_nonzero_else(inside, -dist, dist).id());

@@ -152,6 +152,18 @@ TEST(Convert, ExpressionDepthIsLogarithmic) {
   EXPECT_LT(deepest, 15 + 4 * 16) << "depth " << deepest;
 }
 
+// The vertex bound (min(P, 4 B)) lets pruning drop the far terms of a box on the surface, where
+// the terms near it cannot settle their signs: a box 1/20 of the diameter keeps a few percent.
+TEST(Convert, ABoxOnTheSurfaceKeepsOnlyNearbyTerms) {
+  const TriMesh m = test::make_sphere(3, 1.0);
+  const ConvertResult r = convert_mesh(m);
+  const Tape tape = Tape::compile(*r.model.graph, r.model.root);
+  IntervalEvaluator ie;
+  Tape s;
+  ie.simplify(tape, {-0.05f, 0.05f}, {-0.05f, 0.05f}, {0.95f, 1.05f}, s);
+  EXPECT_LT(s.size() * 20, tape.size()) << s.size() << " of " << tape.size();
+}
+
 // Intervals settle the sign away from the surface: a box deep inside is entirely negative, one
 // outside entirely positive (what the mesher's and renderer's pruning needs), and each bounds the
 // exact distance there.
