@@ -2,6 +2,8 @@
 #include "frep/convert/convert.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <unordered_set>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -28,16 +30,31 @@ void report(const ConvertOptions& o, const char* stage, double fraction) {
 // Inside test from the tetrahedra: M = max over tetrahedra of the min of their four inward plane
 // values, >= 0 inside the union. Surface faces use the regions' own planes (exactly 0 on the
 // surface); a face between two tetrahedra is one value, negated for one of them.
-// The vertices of the vertex bound (see ExprBuilder::vertex_bound): the ends of crease edges and
-// the vertex terms' vertices. Not the vertices inside flat regions, so that the tessellation of
-// flat faces still costs nothing; the bound holds for any set of surface points.
-std::vector<std::uint32_t> bound_vertices(const Features& f) {
+// The vertices of the vertex bound (see ExprBuilder::vertex_bound): ends of crease edges and the
+// vertex terms' vertices, at most one per cell of a grid twice the mean crease length (the bound
+// holds for any set of surface points; this keeps it tight at a fraction of the nodes). Never
+// vertices inside flat regions, so that the tessellation of flat faces still costs nothing.
+std::vector<std::uint32_t> bound_vertices(const Features& f, const std::vector<Vec3>& points) {
   std::vector<std::uint32_t> vs;
-  for (const EdgeTerm& e : f.edges) vs.push_back(e.a), vs.push_back(e.b);
+  double total = 0;
+  for (const EdgeTerm& e : f.edges) {
+    vs.push_back(e.a), vs.push_back(e.b);
+    total += length(points[e.b] - points[e.a]);
+  }
   for (const VertexTerm& v : f.vertices) vs.push_back(v.v);
   std::sort(vs.begin(), vs.end());
   vs.erase(std::unique(vs.begin(), vs.end()), vs.end());
-  return vs;
+  const double cell = f.edges.empty() ? 0.0 : 2.0 * total / static_cast<double>(f.edges.size());
+  if (!(cell > 0)) return vs;
+  std::unordered_set<std::uint64_t> seen;
+  std::vector<std::uint32_t> kept;
+  for (std::uint32_t v : vs) {
+    std::uint64_t key = 0;
+    for (int k = 0; k < 3; ++k)
+      key = key * 2097152u + static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(points[v][k] / cell)) & 0x1FFFFF);
+    if (seen.insert(key).second) kept.push_back(v);
+  }
+  return kept;
 }
 
 NodeId inside_measure(ExprBuilder& b, const TriMesh& m, const Features& f, const Tetrahedralization& tz) {
@@ -188,7 +205,7 @@ ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
     // intervals: deep inside, where every term of P is gated, min(P, 4 B) = 4 B, whose interval
     // lies above N's over boxes more than about three box widths from the surface (1 B would
     // touch N's, and the sign would stay open everywhere).
-    const NodeId bound = g.binary(Op::Mul, b.vertex_bound(bound_vertices(f), box, extent / s), g.constant(4.0f));
+    const NodeId bound = g.binary(Op::Mul, b.vertex_bound(bound_vertices(f, points), box, extent / s), g.constant(4.0f));
     root.d2 = g.binary(Op::Min, root.d2, bound);
     root.neg = g.binary(Op::Min, root.neg, bound);
     // sqrt(P) where P <= N, else -sqrt(N): compare(P, N) > 0 exactly where the nearest feature is
@@ -203,7 +220,7 @@ ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
     ExprBuilder b(g, points, uf, margin, frame);
     const Term root = b.distance(false, box);
     // min(U, vertex bound) = U (see above).
-    const Expr dist(g, g.unary(Op::Sqrt, g.binary(Op::Min, root.d2, b.vertex_bound(bound_vertices(f), box, extent / s))));
+    const Expr dist(g, g.unary(Op::Sqrt, g.binary(Op::Min, root.d2, b.vertex_bound(bound_vertices(f, points), box, extent / s))));
     // compare(M, 0) + 1 is non-zero exactly where M >= 0: inside.
     const Expr inside = compare(Expr(g, inside_measure(b, m, uf, tz)), 0.0f) + 1.0f;
     r.model.root = with_box_bound(b, if_nonzero_else(inside, -dist, dist).id());
