@@ -3,7 +3,11 @@
 // semantics, NaN, signed zeros and infinities included). Also million-node chains from .vm text.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <chrono>
+#include <map>
+#include <random>
+#include <tuple>
 #include <sstream>
 
 #include "frep/expr/expr.hpp"
@@ -35,6 +39,64 @@ TEST(GraphHashConsing, SameSubexpressionIsTheSameNode) {
   EXPECT_NE(max(x, y).id(), max(y, x).id());
   EXPECT_NE((x - y).id(), (y - x).id());
   EXPECT_NE(atan2(x, y).id(), atan2(y, x).id());
+}
+
+// The index keeps a node near its newest argument's slot; a node that is the newest argument of
+// many others overflows into the second index. Every use must still find the one node, also
+// after the indexes are rebuilt (growth and reserve).
+TEST(GraphHashConsing, NodesWithManyUsersShareEveryUse) {
+  Graph g;
+  std::vector<NodeId> cs;
+  for (int i = 0; i < 200; ++i) cs.push_back(g.constant(static_cast<float>(i) + 0.5f));
+  const NodeId x = g.var_x();  // newer than every constant: the newest argument of all 200 products
+  std::vector<NodeId> products;
+  for (NodeId c : cs) products.push_back(g.binary(Op::Mul, c, x));
+  const std::size_t size = g.size();
+  for (std::size_t i = 0; i < cs.size(); ++i) EXPECT_EQ(g.binary(Op::Mul, x, cs[i]), products[i]);
+  g.reserve(100000);  // rebuilds both indexes
+  for (std::size_t i = 0; i < cs.size(); ++i) EXPECT_EQ(g.binary(Op::Mul, cs[i], x), products[i]);
+  EXPECT_EQ(g.size(), size);
+}
+
+// Random graphs, with a few hub nodes that many others use, against a reference table: a node is
+// new exactly when the reference has not seen its (op, arguments, value), through several
+// growths of the indexes.
+TEST(GraphHashConsing, MatchesAReferenceTableOnRandomGraphs) {
+  Graph g;
+  std::map<std::tuple<int, NodeId, NodeId, std::uint32_t>, NodeId> seen;
+  std::mt19937 rng(7);
+  std::vector<NodeId> ids{g.var_x(), g.var_y(), g.var_z()};
+  for (NodeId id : ids) seen[{static_cast<int>(g.node(id).op), kNoNode, kNoNode, 0u}] = id;
+  const Op ops[] = {Op::Sub, Op::Min, Op::Max, Op::Div, Op::Atan2};
+  for (int i = 0; i < 300000; ++i) {
+    const auto pick = [&]() -> NodeId {
+      const std::uint32_t r = rng() % 100;
+      if (r < 10) return ids[rng() % 8];                                  // hubs: the oldest nodes
+      if (r < 70) return ids[ids.size() - 1 - rng() % std::min<std::size_t>(ids.size(), 32)];  // recent
+      return ids[rng() % ids.size()];                                     // anywhere
+    };
+    NodeId got;
+    std::tuple<int, NodeId, NodeId, std::uint32_t> key;
+    if (rng() % 4 == 0) {
+      const float v = static_cast<float>(rng() % 5000);  // repeats often
+      got = g.constant(v);
+      key = {static_cast<int>(Op::Const), kNoNode, kNoNode, std::bit_cast<std::uint32_t>(v)};
+    } else {
+      const Op op = ops[rng() % 5];
+      const NodeId a = pick(), b = pick();
+      if (a == b || g.is_const(a) || g.is_const(b)) continue;  // no folding or identities here
+      got = g.binary(op, a, b);
+      key = {static_cast<int>(op), a, b, 0u};
+    }
+    const auto [it, fresh] = seen.emplace(key, got);
+    if (fresh) {
+      ASSERT_EQ(got, ids.size()) << "a new node must get the next id (step " << i << ")";
+      ids.push_back(got);
+    } else {
+      ASSERT_EQ(got, it->second) << "a repeated node must be found (step " << i << ")";
+    }
+  }
+  EXPECT_EQ(g.size(), ids.size());
 }
 
 // Distance from p to segment [a, b], the branch-free form used by the mesh converter.

@@ -44,8 +44,9 @@ struct LargeAllocator {
 }  // namespace detail
 
 // Owns every node. Node ids are indices, and a node's arguments always have smaller ids, so the
-// arena is already in topological order. Memory: 16 bytes per node plus the hash index (8 bytes
-// per slot: the id and half the hash; at most half full): 32 to 48 bytes per node.
+// arena is already in topological order. Memory: 16 bytes per node, plus two hash indexes of
+// 8-byte slots (the id and half the hash): 8 bytes per node for nodes with arguments, 16 to 32
+// per leaf (constants mostly); about 32 to 48 bytes per node in all (docs/engine.md).
 class Graph {
  public:
   Graph();
@@ -81,11 +82,25 @@ class Graph {
   Expr expr(NodeId id);
 
  private:
+  using Index = std::vector<std::uint64_t, detail::LargeAllocator<std::uint64_t>>;
   NodeId intern(const Node& n);
-  void rehash(std::size_t slots);
+  // Rebuilds both indexes with room for `capacity` nodes and `spread_slots` (a power of two)
+  // slots for the rest.
+  void rebuild(std::size_t capacity, std::size_t spread_slots);
+  void rehash_spread(std::size_t slots);
+  bool place_near(const Node& n, std::uint64_t entry);
+  void place_spread(std::uint64_t hash, std::uint64_t entry);
 
   std::vector<Node, detail::LargeAllocator<Node>> nodes_;
-  std::vector<std::uint64_t, detail::LargeAllocator<std::uint64_t>> index_;  // open addressing: hash's upper half << 32 | id; all ones = empty
+  // Slots hold the hash's upper half << 32 | id; all ones is empty. A node with arguments lives
+  // within a few slots of slot (its newest argument's id) in `near_`, unless that window is
+  // full: graphs are built bottom up, so that memory is usually in cache, where a hashed slot
+  // would be a cache miss per node. Leaves and overflows go in `spread_`, plain open addressing
+  // at most half full.
+  Index near_;
+  Index spread_;
+  std::size_t capacity_ = 0;  // nodes `near_` has room for
+  std::size_t spread_count_ = 0;
 };
 
 // Nodes reachable from `root`, in increasing id order (so arguments come first). Iterative.
