@@ -2,7 +2,9 @@
 // then OpenVDB's volumeToMesh", in one run. The expression is ../shared/data/meshes/armadillo_libigl.obj
 // converted by convert_mesh (not timed); the grid is dual contouring's: 256 cells across the longest
 // side of the mesh's bounding box grown by 1% (MeshOptions::known_bounds), plus one margin cell.
-//   BM_ArmadilloDC        frep's mesher (warm Mesher), dual contouring.
+//   BM_ArmadilloDC        frep's mesher (warm Mesher), dual contouring, as frep mesh runs it: with the
+//                         Lipschitz bound the conversion reports (1: an exact distance) and the
+//                         mesher's default tiles. FREP_DC_LIPSCHITZ=0 turns the bound off.
 //   BM_ArmadilloVdbDense  every grid corner evaluated (the subdivision driver simplifies the tape
 //                         per 8-sample box, the batch evaluator samples all of them), copied into
 //                         an openvdb::FloatGrid (copyFromDense), then tools::volumeToMesh.
@@ -45,9 +47,10 @@ const int kResolution = [] {
   const char* r = std::getenv("FREP_MESH_RESOLUTION");
   return r ? std::atoi(r) : 256;
 }();
-// Subdivision tiles for both pipelines. The default ({128, 32, 8}) stores a simplified tape for
-// every open box of the two breadth-first levels at once: over 12 GB for this expression. With a
-// top level of 256, those two levels hold at most 8 + 64 boxes. FREP_TILES=32,8 overrides it.
+// Subdivision tiles of the sampling pipelines. The default ({128, 32, 8}) stores a simplified tape
+// for every open box of the two breadth-first levels at once: over 12 GB for this expression. With a
+// top level of 256, those two levels hold at most 8 + 64 boxes. FREP_TILES=32,8 overrides it (for
+// dual contouring too, whose default is the mesher's).
 const std::vector<int> kTiles = [] {
   std::vector<int> t;
   if (const char* e = std::getenv("FREP_TILES"))
@@ -98,7 +101,9 @@ frep::MeshOptions dc_options() {
   frep::MeshOptions o;
   o.resolution = kResolution;
   o.known_bounds = armadillo().box;
-  o.tiles = kTiles;
+  if (std::getenv("FREP_TILES")) o.tiles = kTiles;
+  const char* l = std::getenv("FREP_DC_LIPSCHITZ");
+  o.lipschitz = l ? std::atof(l) : armadillo().model.lipschitz;
   return o;
 }
 

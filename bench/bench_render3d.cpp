@@ -1,6 +1,9 @@
 // 3D render benchmark: the pruned column search (1 and 2 threads, warm renderer) against
 // brute-force per-pixel column search in the same run, on one model.
-//   FREP_RENDER3D_MODEL  a .vm or .rhai file (default ../shared/data/vm/bear.vm)
+//   FREP_RENDER3D_MODEL  a .vm, .rhai or .frep file, or a mesh (converted first; default
+//                        ../shared/data/vm/bear.vm)
+//   FREP_RENDER3D_LIPSCHITZ  the Lipschitz bound to assume (default: the model's own, 1 for
+//                        converted meshes and the files frep convert writes; 0 turns it off)
 //   FREP_RENDER3D_SIZE   image size (default 1024)
 //   FREP_RENDER3D_VIEW   view direction (default front)
 //   FREP_RENDER3D_ROWS   brute force renders every k-th row and is scaled by k (default 16;
@@ -20,6 +23,7 @@
 #include <memory>
 #include <optional>
 
+#include "frep/convert/convert.hpp"
 #include "frep/io/load.hpp"
 #include "frep/render/render3d.hpp"
 
@@ -51,7 +55,7 @@ const Setup* setup() {
     return nullptr;
   }
   const auto t0 = std::chrono::steady_clock::now();
-  st.model = frep::load_expression(st.path);
+  st.model = frep::load_field(st.path);
   st.tape = frep::Tape::compile(*st.model.graph, st.model.root);
   st.load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   st.options.size = std::atoi(env("FREP_RENDER3D_SIZE", "1024").c_str());
@@ -60,6 +64,7 @@ const Setup* setup() {
     return nullptr;
   }
   st.row_step = std::max(1, std::atoi(env("FREP_RENDER3D_ROWS", "16").c_str()));
+  st.options.lipschitz = std::atof(env("FREP_RENDER3D_LIPSCHITZ", std::to_string(st.model.lipschitz)).c_str());
   if (const char* t = std::getenv("FREP_TILES")) {
     st.options.tiles.clear();
     for (const char* p = t; *p;) {
@@ -68,9 +73,9 @@ const Setup* setup() {
       if (*p == ',') ++p;
     }
   }
-  std::fprintf(stderr, "model %s: %zu instructions, loaded and compiled in %.0f ms; %dx%d, view %s, tiles",
+  std::fprintf(stderr, "model %s: %zu instructions, loaded and compiled in %.0f ms; %dx%d, view %s, Lipschitz %g, tiles",
                st.path.c_str(), st.tape.size(), st.load_ms, st.options.size, st.options.size,
-               frep::view_direction_name(st.options.view));
+               frep::view_direction_name(st.options.view), st.options.lipschitz);
   for (int t : st.options.tiles) std::fprintf(stderr, " %d", t);
   std::fprintf(stderr, "%s\n", st.options.tiles.empty() ? " automatic" : "");
   s = std::move(st);

@@ -55,7 +55,7 @@ void register_convert(CLI::App& app) {
       };
     const ConvertResult r = convert_mesh(mesh, opt);
     const auto t0 = std::chrono::steady_clock::now();
-    save_expression(a->output, *r.model.graph, r.model.root);
+    save_expression(a->output, r.model);
     const double write_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (a->quiet) return;
     const ConvertStats& s = r.stats;

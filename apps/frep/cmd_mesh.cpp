@@ -39,6 +39,7 @@ void register_mesh(CLI::App& app) {
     double cell = 0;
     std::vector<double> bounds;
     int threads = 0, snap_iterations = 4;
+    double lipschitz = -1;
     bool quiet = false;
   };
   auto a = std::make_shared<Args>();
@@ -84,6 +85,7 @@ void register_mesh(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(0, 1024));
   cmd->add_flag("--quiet,-q", a->quiet, "Print nothing but errors");
+  add_lipschitz_option(cmd, a->lipschitz);
   cmd->callback([a, res, cell] {
     if (res->count() == 0 && cell->count() == 0)
       throw CLI::ValidationError("--resolution/--cell", "give the cell size: --resolution N or --cell SIZE");
@@ -107,6 +109,7 @@ void register_mesh(CLI::App& app) {
 
     const Model m = load_input(a->input);
     const Tape tape = Tape::compile(*m.graph, m.root);
+    o.lipschitz = lipschitz_of(m, a->lipschitz);
     // Progress on long runs, on a terminal only (carriage returns would clutter a log).
     const auto t0 = std::chrono::steady_clock::now();
     const bool show = !a->quiet && ::isatty(STDERR_FILENO);

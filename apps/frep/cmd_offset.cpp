@@ -39,6 +39,7 @@ void register_offset(CLI::App& app) {
     check_field_output(a->output);
     ConvertStats converted;
     Model m = load_input(a->input, &converted);
+    o->lipschitz = lipschitz_of(m, o->lipschitz);  // an offset keeps it
     // Only a mesh output needs the region (an expression is saved whatever its bounds).
     const Box3 region = is_mesh_output(a->output)
                             ? input_region(a->input, converted, Tape::compile(*m.graph, m.root), *o)

@@ -66,7 +66,7 @@ void register_render(CLI::App& app) {
     RenderOptions opt;
     std::vector<int> tiles;
     std::vector<double> rotate, bounds;
-    double contour = 0;
+    double contour = 0, lipschitz = -1;
     int depth_steps = 0;
     bool three_d = false, ao = false, quiet = false;
   };
@@ -84,6 +84,7 @@ void register_render(CLI::App& app) {
                   "Tile edge per subdivision level, largest first (advanced; default 256,64,16; with --3d halving from the image size down to 4)")
       ->delimiter(',');
   cmd->add_flag("--quiet,-q", a->quiet, "Do not print where the image went");
+  add_lipschitz_option(cmd, a->lipschitz);
 
   auto* three_d = cmd->add_flag("--3d", a->three_d, "Shaded 3D view of the surface f = 0 (orthographic)");
   auto* slice = cmd->add_option("--slice", a->slice,
@@ -148,6 +149,7 @@ void register_render(CLI::App& app) {
       o.threads = a->opt.threads;
       o.bounds = box;
       o.depth_steps = a->depth_steps;
+      o.lipschitz = lipschitz_of(m, a->lipschitz);
       if (!a->tiles.empty()) o.tiles = a->tiles;
       parse_view_direction(a->view, o.view);
       o.z_up = a->up == "z";
@@ -174,6 +176,7 @@ void register_render(CLI::App& app) {
     } else {
       RenderOptions o = a->opt;
       if (!a->tiles.empty()) o.tiles = a->tiles;
+      o.lipschitz = lipschitz_of(m, a->lipschitz);
       img = render2d(tape, o);
     }
     const auto t1 = std::chrono::steady_clock::now();

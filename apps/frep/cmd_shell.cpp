@@ -46,6 +46,7 @@ void register_shell(CLI::App& app) {
     check_field_output(a->output);
     ConvertStats converted;
     Model m = load_input(a->input, &converted);
+    o->lipschitz = lipschitz_of(m, o->lipschitz);  // every side keeps it (max and abs of L-Lipschitz fields)
     const float t = static_cast<float>(a->thickness);
     const Expr f = m.root_expr();
     const bool outward = a->side == "outward", inward = a->side == "inward";

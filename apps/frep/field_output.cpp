@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "input.hpp"
 #include "frep/contour/bounds.hpp"
 #include "frep/contour/mesher.hpp"
 #include "frep/error.hpp"
@@ -44,6 +45,7 @@ void add_field_output_options(CLI::App* cmd, const std::shared_ptr<FieldOutputOp
       ->expected(6);
   cmd->add_option("--threads,-j", o->threads, "Worker threads (0 = all cores)")->capture_default_str()->check(CLI::Range(0, 1024));
   cmd->add_flag("--quiet,-q", o->quiet, "Print nothing but errors");
+  add_lipschitz_option(cmd, o->lipschitz);
 }
 
 void check_field_output_options(const FieldOutputOptions& o) {
@@ -79,6 +81,7 @@ Box3 input_region(const std::string& input, const ConvertStats& converted, const
   if (converted.triangles > 0 && !converted.box.empty()) return converted.box;
   BoundsSearchOptions bs;
   bs.threads = o.threads;
+  bs.lipschitz = std::max(0.0, o.lipschitz);
   BoundsResult b;
   try {
     b = find_bounds(tape, bs);
@@ -93,7 +96,7 @@ Box3 input_region(const std::string& input, const ConvertStats& converted, const
 void write_field_output(const std::string& input, const std::string& path, const Graph& g, NodeId root,
                         const Box3& region, const FieldOutputOptions& o) {
   if (!is_mesh_output(path)) {
-    save_expression(path, g, root);
+    save_expression(path, g, root, std::max(0.0, o.lipschitz));
     if (!o.quiet) fmt::print("wrote {} (the expression)\n", path);
     return;
   }
@@ -101,6 +104,7 @@ void write_field_output(const std::string& input, const std::string& path, const
   mo.method = MeshMethod::DualContouring;
   mo.resolution = o.resolution;
   mo.threads = o.threads;
+  mo.lipschitz = std::max(0.0, o.lipschitz);
   if (!o.bounds.empty())
     mo.bounds = region;  // exactly as given: cut and capped where the shape reaches it
   else

@@ -19,9 +19,10 @@ struct FieldOutputOptions {
   std::vector<double> bounds;  // x0,y0,z0,x1,y1,z1 given on the command line, or empty
   int threads = 0;
   bool quiet = false;
+  double lipschitz = -1;       // --lipschitz, or < 0 if not given; commands resolve it with lipschitz_of
 };
 
-// Adds --resolution, --bounds, --threads and --quiet, stored in `o` (which must outlive parsing).
+// Adds --resolution, --bounds, --threads, --quiet and --lipschitz, stored in `o` (which must outlive parsing).
 void add_field_output_options(CLI::App* cmd, const std::shared_ptr<FieldOutputOptions>& o);
 // Checks what CLI11 cannot (finite, non-empty bounds); throws CLI::ValidationError.
 void check_field_output_options(const FieldOutputOptions& o);
@@ -47,6 +48,7 @@ Box3 input_region(const std::string& input, const ConvertStats& converted, const
 // Writes the field `root` of `g` to `path`: as an expression, or meshed by dual contouring with
 // `region` as the known box of its inside (one extra cell on every side), or over the given
 // --bounds exactly (cut and capped there). InputError naming `input` when the result is empty.
+// Expressions keep o.lipschitz (the operations of frep offset and frep shell keep the input's).
 void write_field_output(const std::string& input, const std::string& path, const Graph& g, NodeId root,
                         const Box3& region, const FieldOutputOptions& o);
 

@@ -16,4 +16,20 @@ Model load_input(const std::string& path, ConvertStats* stats) {
   return m;
 }
 
+void add_lipschitz_option(CLI::App* cmd, double& value) {
+  value = -1;
+  cmd->add_option("--lipschitz", value,
+                  "Assume |f(p) - f(q)| <= L |p - q| (1 for exact distances): boxes then settle from the value at their "
+                  "centre, much faster on converted meshes. Default: what the input says (1 for meshes and for files "
+                  "frep convert wrote), else unknown; 0 turns it off. A wrong L gives wrong pictures and meshes")
+      ->check(CLI::Validator(
+          [](std::string& s) -> std::string {
+            double v = 0;
+            if (!CLI::detail::lexical_cast(s, v) || !std::isfinite(v) || v < 0)
+              return "the Lipschitz bound must be a finite number >= 0, got " + s;
+            return {};
+          },
+          "L >= 0"));
+}
+
 }  // namespace frep::cli

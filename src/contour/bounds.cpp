@@ -28,6 +28,7 @@ BoundsResult find_bounds(const Tape& tape, const BoundsSearchOptions& o) {
   SubdivisionOptions so;
   so.tiles = tiles_for(o.cells);
   so.threads = o.threads;
+  so.lipschitz = o.lipschitz;
   Subdivider sub(so);
 
   // Keeps the bounding box of the boxes that may be negative, per worker. A box inside the

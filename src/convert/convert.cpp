@@ -226,6 +226,7 @@ ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
     r.model.root = with_box_bound(b, if_nonzero_else(inside, -dist, dist).id());
   }
   if (s != 1.0) r.model.root = g.binary(Op::Mul, r.model.root, g.constant(static_cast<float>(s)));
+  r.model.lipschitz = 1;  // an exact distance (both sign methods), in the mesh's own units
   st.nodes = reachable_nodes(g, r.model.root).size();
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   report(o, "done", 1.0);

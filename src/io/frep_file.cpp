@@ -13,6 +13,7 @@ namespace {
 
 constexpr std::uint32_t kVersion = 1;
 constexpr std::size_t kHeader = 8 + 4 + 4 + 8 + 8;
+constexpr std::uint32_t kFlagDistance = 1;  // the field is 1-Lipschitz
 
 // CRC-32 (reflected polynomial 0xEDB88320, as zlib's crc32), four table lookups per word.
 const std::array<std::array<std::uint32_t, 256>, 4>& crc_tables() {
@@ -69,7 +70,7 @@ T get(std::string_view b, std::size_t at) {
 
 bool is_frep_file(std::string_view bytes) { return bytes.substr(0, kFrepMagic.size()) == kFrepMagic; }
 
-std::string serialize_frep(const Graph& g, NodeId root) {
+std::string serialize_frep(const Graph& g, NodeId root, double lipschitz) {
   const std::vector<NodeId> order = reachable_nodes(g, root);
   std::vector<std::uint64_t> index(static_cast<std::size_t>(root) + 1, 0);
   for (std::size_t i = 0; i < order.size(); ++i) index[order[i]] = i;
@@ -77,7 +78,7 @@ std::string serialize_frep(const Graph& g, NodeId root) {
   out.reserve(kHeader + order.size() * 4 + 4);
   out.append(kFrepMagic);
   put<std::uint32_t>(out, kVersion);
-  put<std::uint32_t>(out, 0);
+  put<std::uint32_t>(out, lipschitz == 1 ? kFlagDistance : 0);
   put<std::uint64_t>(out, order.size());
   put<std::uint64_t>(out, order.size() - 1);  // the root is last in topological order
   for (std::size_t i = 0; i < order.size(); ++i) {
@@ -92,7 +93,9 @@ std::string serialize_frep(const Graph& g, NodeId root) {
   return out;
 }
 
-void save_frep(const std::string& path, const Graph& g, NodeId root) { write_file_atomically(path, serialize_frep(g, root)); }
+void save_frep(const std::string& path, const Graph& g, NodeId root, double lipschitz) {
+  write_file_atomically(path, serialize_frep(g, root, lipschitz));
+}
 
 Model parse_frep(std::string_view b, const std::string& name) {
   auto fail = [&](std::size_t at, const std::string& what) -> InputError {
@@ -147,6 +150,7 @@ Model parse_frep(std::string_view b, const std::string& name) {
   }
   if (at != end) throw fail(at, std::to_string(end - at) + " unexpected bytes after the last node");
   m.root = ids[root];
+  if (get<std::uint32_t>(b, 12) & kFlagDistance) m.lipschitz = 1;
   return m;
 }
 

@@ -24,12 +24,14 @@ Format format_of(const std::string& path) {
 
 void check_expression_path(const std::string& path) { format_of(path); }
 
-void save_expression(const std::string& path, const Graph& g, NodeId root) {
+void save_expression(const std::string& path, const Graph& g, NodeId root, double lipschitz) {
   switch (format_of(path)) {
-    case Format::Vm: return save_vm(path, g, root);
-    case Format::Frep: return save_frep(path, g, root);
-    case Format::Rhai: return save_rhai(path, g, root);
+    case Format::Vm: return save_vm(path, g, root, lipschitz);
+    case Format::Frep: return save_frep(path, g, root, lipschitz);
+    case Format::Rhai: return save_rhai(path, g, root, lipschitz);
   }
 }
+
+void save_expression(const std::string& path, const Model& m) { save_expression(path, *m.graph, m.root, m.lipschitz); }
 
 }  // namespace frep

@@ -186,19 +186,24 @@ Model parse_vm(std::string_view text, const std::string& name) {
     }
   }
   model.root = built.back();
+  model.lipschitz = detail::leading_lipschitz(text, "#", name);
   return model;
 }
 
 Model read_vm(const std::string& path) { return parse_vm(read_file(path), path); }
 
-void write_vm(std::ostream& out, const Graph& g, NodeId root) {
+void write_vm(std::ostream& out, const Graph& g, NodeId root, double lipschitz) {
   const std::vector<NodeId> order = reachable_nodes(g, root);
+  char buf[64];
+  if (lipschitz > 0) {
+    std::snprintf(buf, sizeof buf, "%.9g", lipschitz);
+    out << "# frep: lipschitz " << buf << " (|f(p) - f(q)| <= " << buf << " |p - q|)\n";
+  }
   std::vector<std::uint32_t> index(root + 1, 0);
   for (std::uint32_t i = 0; i < order.size(); ++i) index[order[i]] = i;
   bool has_recip = false;
   for (NodeId id : order) has_recip |= g.node(id).op == Op::Recip;
   if (has_recip) out << "_one const 1\n";  // not a hex id, so it cannot collide
-  char buf[64];
   for (std::uint32_t i = 0; i < order.size(); ++i) {
     const Node& n = g.node(order[i]);
     out << '_' << std::hex << i << std::dec << ' ';
@@ -221,8 +226,8 @@ void write_vm(std::ostream& out, const Graph& g, NodeId root) {
   }
 }
 
-void save_vm(const std::string& path, const Graph& g, NodeId root) {
-  write_file_atomically(path, [&](std::ostream& out) { write_vm(out, g, root); });
+void save_vm(const std::string& path, const Graph& g, NodeId root, double lipschitz) {
+  write_file_atomically(path, [&](std::ostream& out) { write_vm(out, g, root, lipschitz); });
 }
 
 }  // namespace frep

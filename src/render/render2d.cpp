@@ -42,6 +42,7 @@ Renderer2D::Renderer2D(RenderOptions options) : options_(std::move(options)) {
   SubdivisionOptions so;
   so.tiles = options_.tiles;
   so.threads = options_.threads;
+  so.lipschitz = options_.lipschitz;
   subdivider_ = std::make_unique<Subdivider>(so);
   for (int i = 0; i < subdivider_->workers(); ++i) workers_.push_back(std::make_unique<Worker>());
 }

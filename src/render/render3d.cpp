@@ -191,6 +191,7 @@ Renderer3D::Renderer3D(Render3DOptions options) : options_(std::move(options)) {
   // One level breadth first: the driver keeps every frontier box's simplified tape, and in 3D
   // two levels make thousands of them (gigabytes for a million-node expression).
   so.breadth_first_levels = 1;
+  so.lipschitz = options_.lipschitz;  // the view is a rotation: distances are the model's
   subdivider_ = std::make_unique<Subdivider>(so);
   for (int i = 0; i < subdivider_->workers(); ++i) workers_.push_back(std::make_unique<Worker>());
 }

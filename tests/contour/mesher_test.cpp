@@ -11,11 +11,13 @@
 #include <filesystem>
 
 #include "contour_test_util.hpp"
+#include "frep/convert/convert.hpp"
 #include "frep/error.hpp"
 #include "frep/expr/expr.hpp"
 #include "frep/io/load.hpp"
 #include "frep/io/vm.hpp"
 #include "frep/mesh/mesh_io.hpp"
+#include "mesh_test_util.hpp"
 #include "test_util.hpp"
 
 namespace frep {
@@ -135,6 +137,24 @@ TEST(Mesher, SameMeshForAnyThreadCountAndTiles) {
       o.threads = 2;
       EXPECT_TRUE(triangle_set(mesh_expression(t, o)) == ref_set) << "tiles " << ::testing::PrintToString(tiles);
     }
+  }
+}
+
+// A Lipschitz bound settles more boxes (and, by default, halves the tiles per level) but no cell
+// with a sign change: the same triangles, for exact distances (converted meshes).
+TEST(Mesher, LipschitzBoundGivesTheSameTriangles) {
+  const ConvertResult r = convert_mesh(test::make_sphere(2, 0.8));
+  const Tape t = Tape::compile(*r.model.graph, r.model.root);
+  for (auto method : {MeshMethod::DualContouring, MeshMethod::Snap}) {
+    MeshOptions o = options(36, Box3{{-1, -1, -1}, {1, 1, 1}}, method);
+    const TriMesh ref = mesh_solid(t, o, "converted sphere");
+    o.lipschitz = 1;
+    for (int threads : {1, 2}) {
+      o.threads = threads;
+      EXPECT_TRUE(triangle_set(mesh_solid(t, o, "converted sphere, Lipschitz")) == triangle_set(ref)) << threads << " threads";
+    }
+    o.tiles = {16, 4};
+    EXPECT_TRUE(triangle_set(mesh_expression(t, o)) == triangle_set(ref)) << "tiles 16, 4";
   }
 }
 

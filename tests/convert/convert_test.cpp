@@ -225,6 +225,12 @@ TEST(ConvertCli, ConvertsRefusesAndWritesAtomically) {
   EXPECT_NE(text.find("12 triangles"), std::string::npos) << text;
   EXPECT_NE(text.find("per triangle"), std::string::npos) << text;
   EXPECT_EQ(run(std::string(FREP_CLI_PATH) + " info " + out, &text), 0) << text;
+  EXPECT_NE(text.find("lipschitz: 1"), std::string::npos) << "the file says it is a distance: " << text;
+  // --lipschitz: used by the commands that subdivide space; a negative bound is a usage error.
+  const std::string png = dir + "/cli_box.png";
+  EXPECT_EQ(run(std::string(FREP_CLI_PATH) + " render " + out + " --3d --size 24 --lipschitz 0 -o " + png, &text), 0) << text;
+  EXPECT_EQ(run(std::string(FREP_CLI_PATH) + " render " + out + " --3d --size 24 --lipschitz -1 -o " + png, &text), 2) << text;
+  EXPECT_NE(text.find("Lipschitz"), std::string::npos) << text;
   // A refused mesh: exit 1, a message naming the file, and no output file.
   TriMesh open = test::make_box();
   open.triangles.pop_back(), open.origins.pop_back();

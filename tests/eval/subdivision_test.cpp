@@ -2,7 +2,9 @@
 // leaf; each leaf's tape gives the whole tape's values at the leaf's samples, bit for bit; and the
 // leaves it reaches are the same for every thread count and breadth-first setting (0: boxes in
 // parallel from the whole tape), also for tapes big enough to take the driver's
-// big-tape paths (fewer boxes per group, children reusing their parent).
+// big-tape paths (fewer boxes per group, children reusing their parent). With a Lipschitz bound,
+// every box settled by its centre's value has the settled sign at every one of its samples, and
+// fewer boxes reach the leaves.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -23,12 +25,20 @@ namespace {
 
 // A union of n small spheres scattered in [-1, 0] x [-1, 1]^2 (a tape of about 10 n
 // instructions; boxes with x > 0 settle).
-Tape spheres(Graph& g, int n, unsigned seed) {
+// With `expanded`, each distance is written as sqrt(|p|^2 - 2 p.c + |c|^2): the same function,
+// whose intervals are much wider (x appears twice).
+Tape spheres(Graph& g, int n, unsigned seed, bool expanded = false) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f), h(-1.0f, 0.0f);
   std::vector<Expr> terms;
-  for (int i = 0; i < n; ++i)
-    terms.push_back(sqrt(square(g.x() - h(rng)) + square(g.y() - u(rng)) + square(g.z() - u(rng))) - 0.05f);
+  for (int i = 0; i < n; ++i) {
+    const float cx = h(rng), cy = u(rng), cz = u(rng);
+    if (expanded)
+      terms.push_back(sqrt(max(square(g.x()) + square(g.y()) + square(g.z()) - 2.0f * (cx * g.x() + cy * g.y() + cz * g.z()) +
+                               (cx * cx + cy * cy + cz * cz), 0.0f)) - 0.05f);
+    else
+      terms.push_back(sqrt(square(g.x() - cx) + square(g.y() - cy) + square(g.z() - cz)) - 0.05f);
+  }
   while (terms.size() > 1) {
     std::vector<Expr> next;
     for (std::size_t i = 0; i + 1 < terms.size(); i += 2) next.push_back(min(terms[i], terms[i + 1]));
@@ -129,6 +139,77 @@ TEST(Subdivision, SmallTapeCoversEveryBoxOnceWithExactLeafTapes) { check(40, 48,
 
 // Above the driver's big-tape threshold (2^18 instructions).
 TEST(Subdivision, BigTapeTakesTheSameBoxes) { check(30000, 24, {12, 6, 3}); }
+
+// The union of spheres is an exact distance outside and 1-Lipschitz everywhere (up to the
+// rounding of the expanded form, far below the driver's slack).
+void check_lipschitz(int spheres_count, int n, std::vector<int> tiles) {
+  Graph g;
+  const Tape t = spheres(g, spheres_count, 11, true);
+  const SampleGrid s = grid(n);
+  std::map<std::tuple<int, int, int>, std::vector<float>> cache;
+  std::size_t leaves_without = 0;
+  for (double lipschitz : {0.0, 1.0})
+    for (int threads : {1, 2}) {
+      SCOPED_TRACE("Lipschitz " + std::to_string(lipschitz) + ", threads " + std::to_string(threads));
+      SubdivisionOptions o{tiles, threads, 0};
+      o.lipschitz = lipschitz;
+      Subdivider d(o);
+      struct Checker : Recorder {
+        using Recorder::Recorder;
+        BatchEvaluator eval;
+        std::string wrong;
+        bool settled(int w, const IndexBox& b, Interval v) {
+          if (!Recorder::settled(w, b, v)) return false;
+          std::vector<float> xs, ys, zs, out;
+          for (int z = b.lo[2]; z < b.hi[2]; ++z)
+            for (int y = b.lo[1]; y < b.hi[1]; ++y)
+              for (int x = b.lo[0]; x < b.hi[0]; ++x) {
+                xs.push_back(grid.coords[0][static_cast<std::size_t>(x)]);
+                ys.push_back(grid.coords[1][static_cast<std::size_t>(y)]);
+                zs.push_back(grid.coords[2][static_cast<std::size_t>(z)]);
+              }
+          out.resize(xs.size());
+          std::lock_guard<std::mutex> l(m);
+          eval.eval(whole, xs.data(), ys.data(), zs.data(), out.data(), xs.size());
+          for (float f : out)
+            if (!(f >= v.lo && f <= v.hi) && wrong.empty())
+              wrong = "box at " + std::to_string(b.lo[0]) + "," + std::to_string(b.lo[1]) + "," + std::to_string(b.lo[2]) +
+                      " settled with [" + std::to_string(v.lo) + ", " + std::to_string(v.hi) + "] has a sample of " +
+                      std::to_string(f);
+          return true;
+        }
+      } r(t, s, cache);
+      d.run(t, s, r);
+      EXPECT_EQ(r.mismatch, "");
+      EXPECT_EQ(r.wrong, "");
+      EXPECT_TRUE(std::all_of(r.covered.begin(), r.covered.end(), [](int c) { return c == 1; }));
+      std::size_t leaves = 0;
+      for (const auto& b : r.boxes) leaves += std::get<6>(b);
+      if (lipschitz == 0) leaves_without = leaves;
+      else EXPECT_LT(leaves, leaves_without) << "the centre's value settles more boxes";
+    }
+}
+
+TEST(Subdivision, LipschitzBoundSettlesBoxesByTheirCentre) { check_lipschitz(40, 48, {16, 8, 4}); }
+TEST(Subdivision, LipschitzBoundOnABigTape) { check_lipschitz(20000, 16, {8, 4, 2}); }
+
+// lipschitz_bound narrows an interval to f(c) +- L r, rounded outward, and never widens it.
+TEST(Subdivision, LipschitzBoundNarrowsOnlyWithinTheBox) {
+  const Interval box{-5, 7};
+  const Interval n = lipschitz_bound(box, Interval::point(2), 1.0, 1.5, 1.0);
+  EXPECT_LT(n.lo, 0.5f);
+  EXPECT_GT(n.lo, 0.49f);
+  EXPECT_GT(n.hi, 3.5f);
+  EXPECT_LT(n.hi, 3.51f);
+  EXPECT_EQ(lipschitz_bound(box, Interval::point(2), 1.0, 100, 1.0).lo, box.lo);  // never wider
+  EXPECT_EQ(lipschitz_bound(box, Interval::point(2), 0.0, 1.5, 1.0).hi, box.hi);  // unknown: as it was
+  const Interval unknown = lipschitz_bound(box, Interval::unknown(), 1.0, 1.5, 1.0);
+  EXPECT_EQ(unknown.lo, box.lo);
+  // A centre value far outside the box's interval (not a Lipschitz field): what intervals proved.
+  const Interval bad = lipschitz_bound(box, Interval::point(100), 1.0, 1.0, 1.0);
+  EXPECT_EQ(bad.lo, box.lo);
+  EXPECT_EQ(bad.hi, box.hi);
+}
 
 }  // namespace
 }  // namespace frep

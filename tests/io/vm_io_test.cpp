@@ -11,6 +11,8 @@
 #include "frep/error.hpp"
 #include "frep/expr/expr.hpp"
 #include "frep/io/load.hpp"
+#include "frep/io/rhai.hpp"
+#include "frep/io/save.hpp"
 #include "frep/io/vm.hpp"
 #include "test_util.hpp"
 
@@ -146,6 +148,41 @@ TEST(VmWrite, SaveIsAtomicAndFailsCleanly) {
   for (const auto& e : fs::directory_iterator(dir)) leftovers += e.path().filename() != "out.vm";
   EXPECT_EQ(leftovers, 0) << "temporary files left behind";
   fs::remove_all(dir);
+}
+
+// A Lipschitz bound (Model::lipschitz) survives every expression format: a leading comment in
+// .vm and .rhai, a flag in .frep (which keeps only L = 1). Fidget ignores the comments.
+TEST(ExpressionFiles, LipschitzBoundRoundTrips) {
+  const fs::path dir = fs::temp_directory_path() / ("frep_lipschitz_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  Model m;
+  m.root = (sqrt(square(m.graph->x()) + square(m.graph->y()) + square(m.graph->z())) - 0.5f).id();
+  for (double l : {0.0, 1.0, 2.5})
+    for (const char* ext : {".vm", ".rhai", ".frep"}) {
+      m.lipschitz = l;
+      const std::string path = (dir / (std::string("m") + ext)).string();
+      save_expression(path, m);
+      const double want = std::string(ext) == ".frep" && l != 1 ? 0 : l;
+      EXPECT_EQ(load_expression(path).lipschitz, want) << ext << ", L = " << l;
+    }
+  fs::remove_all(dir);
+  EXPECT_EQ(parse_vm("# frep: lipschitz 1 (a distance)\n_0 var-x\n", "a.vm").lipschitz, 1.0);
+  EXPECT_EQ(parse_vm("\n  #   frep: lipschitz 0.5\n# other\n_0 var-x\n", "a.vm").lipschitz, 0.5);
+  // Only leading comments count; other comments mentioning it are ignored.
+  EXPECT_EQ(parse_vm("_0 var-x\n# frep: lipschitz 1\n", "a.vm").lipschitz, 0.0);
+  EXPECT_EQ(parse_vm("# frep lipschitz 1\n_0 var-x\n", "a.vm").lipschitz, 0.0);
+  for (const char* bad : {"# frep: lipschitz\n_0 var-x\n", "# frep: lipschitz -1\n_0 var-x\n",
+                          "\n# frep: lipschitz nan\n_0 var-x\n", "# frep: lipschitz 1x\n_0 var-x\n"}) {
+    try {
+      parse_vm(bad, "bad.vm");
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), "bad.vm");
+      EXPECT_GE(e.line(), 1u);
+      EXPECT_NE(std::string(e.what()).find("lipschitz"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(parse_rhai("// frep: lipschitz 1\nx", "a.rhai").lipschitz, 1.0);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -299,6 +299,28 @@ TEST(Render3D, EqualsBruteForceOnRandomExpressions) {
   }
 }
 
+// With a Lipschitz bound (exact distances: converted meshes, a sphere), boxes also settle from
+// their centre's value: the picture stays the brute-force one bit for bit, from rotated views
+// too (the view is a rotation), for any thread count and tiles.
+TEST(Render3D, LipschitzBoundOnExactDistancesEqualsBruteForce) {
+  std::vector<std::pair<std::string, ConvertResult>> meshes;
+  meshes.emplace_back("converted box", convert_mesh(test::make_box({-0.5, -0.4, -0.6}, {0.6, 0.5, 0.3})));
+  meshes.emplace_back("converted sphere", convert_mesh(test::make_sphere(2, 0.7)));
+  for (const auto& [name, r] : meshes) {
+    ASSERT_EQ(r.model.lipschitz, 1.0) << "a converted mesh is an exact distance";
+    const Tape t = Tape::compile(*r.model.graph, r.model.root);
+    for (auto [view, yaw] : {std::pair{ViewDirection::Front, 0.0}, {ViewDirection::Iso, 17.0}}) {
+      Render3DOptions o = options(40, view, yaw);
+      o.lipschitz = 1;
+      expect_equals_brute_force(t, o, true, name);
+    }
+  }
+  Graph g;
+  Render3DOptions o = options(48, ViewDirection::Iso, -30, 10);
+  o.lipschitz = 1;
+  expect_equals_brute_force(sphere_tape(g, {0.1, -0.2, 0.05}, 0.6), o, true, "sphere");
+}
+
 TEST(Render3D, RendererIsReusableAndBruteForceRowStep) {
   Graph g;
   const Tape a = sphere_tape(g, {0, 0, 0}, 0.5), b = sphere_tape(g, {0.3, 0, 0}, 0.4);

@@ -14,6 +14,7 @@ struct BoundsSearchOptions {
   int max_rounds = 12;  // rounds of zooming in on the box found
   double converged = 0.01;  // stop once no side moves by more than this fraction of the extent
   int threads = 0;      // 0 = all cores
+  double lipschitz = 0;  // known bound L on |f(p) - f(q)| / |p - q| (1 for exact distances, as frep convert writes); 0 = unknown
 };
 
 struct BoundsResult {

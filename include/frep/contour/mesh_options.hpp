@@ -48,6 +48,11 @@ struct MeshOptions {
   BoundsSearchOptions bounds_search;  // for the search (its thread count is `threads`)
 
   int threads = 0;  // worker threads; 0 = all cores. The mesh is the same for any count.
+  // A known bound L on |f(p) - f(q)| / |p - q| (1 for exact distances, as frep convert writes), or
+  // 0 if unknown: cells then also settle as empty or full from their centre's value (much faster
+  // on converted meshes, whose intervals rarely settle a sign near the surface). Also used by the
+  // bounds search.
+  double lipschitz = 0;
 
   // Dual contouring. Crossings are found on cell edges to `edge_tolerance` (a fraction of the
   // cell) by regula falsi (Illinois), bisection where values are not finite, in at most
@@ -62,7 +67,7 @@ struct MeshOptions {
 
   // Advanced: subdivision box edge per level in cells, largest first, each a multiple of the
   // next; the last is the leaf, evaluated cell by cell (at most 32). Empty: leaves of 8 cells,
-  // levels growing by 4.
+  // levels growing by 4 (by 2 with a Lipschitz bound).
   std::vector<int> tiles;
 
   // Called now and then during long runs (from worker threads, one call at a time).

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -61,7 +62,28 @@ struct SubdivisionOptions {
                                            // boxes of the first level with at least 4 per worker run in parallel,
                                            // each from the whole tape (least memory; always so for tapes of 2^18
                                            // instructions and more)
+  double lipschitz = 0;                    // L with |f(p) - f(q)| <= L |p - q| in the grid's coordinates (1 for exact
+                                           // distances), or 0 if unknown: boxes then also settle from their centre's
+                                           // value, f(c) +- L * half-diagonal (see lipschitz_bound)
 };
+
+// The interval of a box, narrowed by a Lipschitz bound: every value of f in a box with centre c
+// and half-diagonal r lies within f(c) +- L r. `centre` is the interval evaluation of the
+// centre (a box of one point), so it contains the computed f(c); the radius is grown by 2^-16 of
+// itself and of the magnitudes involved, which covers the float rounding of a field that is
+// L-Lipschitz in exact arithmetic (converted meshes are exact to about 2^-22 of their size).
+// Unknown (NaN) intervals stay as they are.
+inline Interval lipschitz_bound(Interval box, Interval centre, double lipschitz, double half_diagonal, double coord_scale) {
+  if (box.is_unknown() || centre.is_unknown() || !(lipschitz > 0)) return box;
+  const double mag = std::max(std::fabs(static_cast<double>(centre.lo)), std::fabs(static_cast<double>(centre.hi)));
+  const double r = lipschitz * half_diagonal * (1 + 0x1p-16) + 0x1p-16 * (mag + coord_scale);
+  // Rounded outward to float, so that the narrowed interval still contains every value.
+  float lo = static_cast<float>(centre.lo - r), hi = static_cast<float>(centre.hi + r);
+  if (static_cast<double>(lo) > centre.lo - r) lo = std::nextafter(lo, -INFINITY);
+  if (static_cast<double>(hi) < centre.hi + r) hi = std::nextafter(hi, INFINITY);
+  const Interval out{std::max(box.lo, lo), std::min(box.hi, hi)};
+  return out.is_unknown() ? box : out;  // disjoint only if f is not L-Lipschitz: keep what intervals proved
+}
 
 // Reusable: keeps the pool, per-worker evaluators and tape storage between runs.
 //
@@ -109,12 +131,20 @@ class Subdivider {
   static constexpr std::size_t kGroupInstructions = std::size_t{1} << 26;
   // A child of a big tape keeping more than this fraction of it uses the parent's tape.
   static constexpr double kMaxKept = 0.625;
-  static int group_lanes(const Tape& t) {
-    return static_cast<int>(std::clamp<std::size_t>(kGroupInstructions / std::max<std::size_t>(t.size(), 1), 1, kLanes));
+  // Boxes per interval pass: fewer on big tapes (memory), and at most half the lanes with a
+  // Lipschitz bound (the other half evaluates the boxes' centres in the same pass).
+  int group_lanes(const Tape& t) const {
+    const int lanes = options_.lipschitz > 0 ? kLanes / 2 : kLanes;
+    return static_cast<int>(std::clamp<std::size_t>(kGroupInstructions / std::max<std::size_t>(t.size(), 1), 1, lanes));
   }
+  // Instructions' worth of big children's buffers a worker keeps for the next big children, so
+  // that they are written into memory already mapped (fresh pages cost the kernel a page clear).
+  static constexpr std::size_t kSpareInstructions = std::size_t{1} << 23;
   struct Worker {
     IntervalBatchEvaluator boxes;
     std::vector<std::array<Tape, kLanes>> tapes;  // per level: the current group's children
+    std::vector<Tape> spare;                      // released big children, for their buffers
+    std::size_t spare_size = 0;                   // their capacity in instructions
   };
   struct Item {
     IndexBox box;
@@ -152,10 +182,30 @@ void Subdivider::settle(Worker& w, const Tape& t, const SampleGrid& grid, bool l
     yi[k] = grid.range(1, boxes[k].lo[1], boxes[k].hi[1]);
     zi[k] = grid.range(2, boxes[k].lo[2], boxes[k].hi[2]);
   }
-  w.boxes.eval(t, xi, yi, zi, count);
+  // With a Lipschitz bound, lanes count..2 count - 1 hold the boxes' centres.
+  const bool centres = options_.lipschitz > 0 && 2 * count <= kLanes;
+  double radius[kLanes], scale[kLanes];  // half-diagonal, largest coordinate magnitude
+  if (centres)
+    for (int k = 0; k < count; ++k) {
+      Interval* axes[3] = {xi, yi, zi};
+      radius[k] = scale[k] = 0;
+      for (Interval* r : axes) {
+        // Measured from the rounded centre, so that its rounding is covered too.
+        const float c = 0.5f * r[k].lo + 0.5f * r[k].hi;
+        r[count + k] = Interval::point(c);
+        const double e = std::max(static_cast<double>(c) - r[k].lo, static_cast<double>(r[k].hi) - c);
+        radius[k] += e * e;
+        scale[k] = std::max({scale[k], std::fabs(static_cast<double>(r[k].lo)), std::fabs(static_cast<double>(r[k].hi))});
+      }
+      radius[k] = std::sqrt(radius[k]);
+    }
+  w.boxes.eval(t, xi, yi, zi, centres ? 2 * count : count);
   std::uint32_t open = 0;
-  for (int k = 0; k < count; ++k)
-    if (!v.settled(worker, boxes[k], w.boxes.result(k))) open |= 1u << k;
+  for (int k = 0; k < count; ++k) {
+    Interval value = w.boxes.result(k);
+    if (centres) value = lipschitz_bound(value, w.boxes.result(count + k), options_.lipschitz, radius[k], scale[k]);
+    if (!v.settled(worker, boxes[k], value)) open |= 1u << k;
+  }
   if (!open) return;
   // Nothing to prune without choices, unless the children need register code; nothing to
   // simplify for leaves that do not use their tape.
@@ -166,14 +216,29 @@ void Subdivider::settle(Worker& w, const Tape& t, const SampleGrid& grid, bool l
   // a copy of millions of instructions costs more than evaluating the rest (converted meshes at
   // the coarse levels).
   const bool parent_serves = t.size() >= kBigTape && (!last || !t.code().empty());
+  if (t.size() >= kBigTape && !reuse)
+    for (std::uint32_t bits = open; bits && !w.spare.empty(); bits &= bits - 1) {
+      Tape& d = dst[__builtin_ctz(bits)];
+      if (d.capacity() >= kBigTape) continue;
+      w.spare_size -= w.spare.back().capacity();
+      d = std::move(w.spare.back());
+      w.spare.pop_back();
+    }
   const std::uint32_t built = reuse ? 0 : w.boxes.simplify(t, open, dst, last, parent_serves ? kMaxKept : 1.0);
   for (std::uint32_t bits = open; bits; bits &= bits - 1) {
     const int k = __builtin_ctz(bits);
     const Tape* child = built >> k & 1 ? &dst[k] : &t;
     next(Item{boxes[k], child});
     // A big child's tape goes back once it is done with (its buffers would otherwise stay at
-    // their high-water mark in this slot for the rest of the run).
-    if (release && child == &dst[k] && dst[k].size() >= kBigTape) dst[k] = Tape();
+    // their high-water mark in this slot for the rest of the run): to the worker's spares while
+    // they have room.
+    if (release && child == &dst[k] && dst[k].size() >= kBigTape) {
+      if (w.spare_size + dst[k].capacity() <= kSpareInstructions) {
+        w.spare_size += dst[k].capacity();
+        w.spare.push_back(std::move(dst[k]));
+      }
+      dst[k] = Tape();
+    }
   }
 }
 

@@ -49,6 +49,8 @@ class Tape {
   std::uint32_t num_registers() const { return num_regs_; }
   std::uint32_t root_register() const { return root_reg_; }
   std::size_t size() const { return ssa_size_; }
+  // Instructions its buffers hold before growing (simplifying into it reuses them).
+  std::size_t capacity() const { return ssa_.size(); }
   // Number of min/max/and/or instructions: zero means simplifying cannot shrink it further.
   std::uint32_t choice_count() const { return choices_; }
   // Bit 0/1/2: x/y/z appear in the tape.

@@ -4,7 +4,8 @@
 // Layout (little-endian):
 //   8 bytes  magic "FREPexpr"
 //   u32      format version (1)
-//   u32      flags (0)
+//   u32      flags: bit 0 set if the field is 1-Lipschitz (an exact distance, Model::lipschitz
+//            = 1); other bits 0
 //   u64      node count n (nodes in topological order: arguments before their users)
 //   u64      root: index of the expression's value among the nodes
 //   n nodes  u8 opcode id (the frozen ids of frep/expr/opcode.hpp); then for `const` a f32
@@ -26,10 +27,11 @@ inline constexpr std::string_view kFrepMagic = "FREPexpr";
 // True if the bytes start like a .frep file.
 bool is_frep_file(std::string_view bytes);
 
-// The part of `g` reachable from `root`, serialized.
-std::string serialize_frep(const Graph& g, NodeId root);
+// The part of `g` reachable from `root`, serialized. Of a Lipschitz bound (Model::lipschitz), the
+// format keeps only L = 1 (in its flags); any other value is written as unknown.
+std::string serialize_frep(const Graph& g, NodeId root, double lipschitz = 0);
 // Writes atomically.
-void save_frep(const std::string& path, const Graph& g, NodeId root);
+void save_frep(const std::string& path, const Graph& g, NodeId root, double lipschitz = 0);
 
 // Parses .frep bytes; throws InputError naming `name` and the byte offset for a wrong magic, an
 // unsupported version, a truncated file, a checksum mismatch or an invalid node.

@@ -34,9 +34,9 @@ Model read_rhai(const std::string& path, const RhaiOptions& options = {});
 // parse_rhai reads back to a graph evaluating bit for bit the same: only Fidget's functions and
 // operators (`recip a` is written `1.0 / a`, `mod` as `%`), constants with %.9g (exact in f32),
 // a `let` for every node used more than once and wherever a line would grow too long or too
-// deep; the last line is the shape.
-void write_rhai(std::ostream& out, const Graph& g, NodeId root);
+// deep; the last line is the shape. A `lipschitz` > 0 (Model::lipschitz) goes into a leading `frep: lipschitz L` comment.
+void write_rhai(std::ostream& out, const Graph& g, NodeId root, double lipschitz = 0);
 // Writes atomically to `path`.
-void save_rhai(const std::string& path, const Graph& g, NodeId root);
+void save_rhai(const std::string& path, const Graph& g, NodeId root, double lipschitz = 0);
 
 }  // namespace frep

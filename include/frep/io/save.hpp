@@ -4,13 +4,16 @@
 #include <string>
 
 #include "frep/expr/graph.hpp"
+#include "frep/expr/model.hpp"
 
 namespace frep {
 
 // `.vm` (Fidget's text format), `.rhai` (a Fidget script) or `.frep` (frep's binary format);
 // written atomically. Throws
 // InputError for another extension (naming the supported ones) or an unwritable path.
-void save_expression(const std::string& path, const Graph& g, NodeId root);
+void save_expression(const std::string& path, const Graph& g, NodeId root, double lipschitz = 0);
+// The same with the model's Lipschitz bound (Model::lipschitz), which the file keeps.
+void save_expression(const std::string& path, const Model& m);
 
 // Throws the same InputError as save_expression would for an unsupported extension, so that a
 // command can fail before long work.

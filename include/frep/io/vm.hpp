@@ -17,9 +17,9 @@ Model parse_vm(std::string_view text, const std::string& name = "");
 Model read_vm(const std::string& path);
 
 // Writes the part of `g` reachable from `root` as `.vm`, root last. Only Fidget's opcodes are
-// used: `recip x` is written as `div 1 x`, which Fidget's reader understands.
-void write_vm(std::ostream& out, const Graph& g, NodeId root);
+// used: `recip x` is written as `div 1 x`, which Fidget's reader understands. A `lipschitz` > 0 (Model::lipschitz) goes into a leading `frep: lipschitz L` comment.
+void write_vm(std::ostream& out, const Graph& g, NodeId root, double lipschitz = 0);
 // Writes atomically to `path`.
-void save_vm(const std::string& path, const Graph& g, NodeId root);
+void save_vm(const std::string& path, const Graph& g, NodeId root, double lipschitz = 0);
 
 }  // namespace frep

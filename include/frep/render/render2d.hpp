@@ -18,6 +18,7 @@ struct RenderOptions {
   float z = 0.0f;                             // the z of the slice for 3D expressions
   std::vector<int> tiles = {256, 64, 16};     // tile edge per subdivision level, largest first;
                                               // the last level is evaluated pixel by pixel (SIMD)
+  double lipschitz = 0;                       // known bound L on |f(p) - f(q)| / |p - q| (1 for exact distances, as frep convert writes); 0 = unknown
 };
 
 // Tile-recursive renderer: interval arithmetic classifies whole tiles as inside or outside and

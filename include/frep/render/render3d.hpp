@@ -34,6 +34,7 @@ struct Render3DOptions {
   int threads = 0;                               // worker threads; 0 = all hardware threads
   std::vector<int> tiles = {};                   // box edge per subdivision level in voxels, largest first;
                                                  // empty = halving from the volume's size down to 4
+  double lipschitz = 0;                          // known bound L on |f(p) - f(q)| / |p - q| (1 for exact distances, as frep convert writes); 0 = unknown
 };
 
 // What a 3D render finds: per pixel (row-major, top row first) the depth and normal of the
