@@ -198,14 +198,14 @@ ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
   if (o.sign == SignMode::Pseudonormal) {
     ExprBuilder b(g, points, f, margin, frame);
     Term root = b.distance(true, box);
-    // The vertex bound B (see vertex_bound) is above the computed min(P, N) everywhere, and so is
-    // 4 B: where P <= N, min(P, 4 B) = P; where P > N, min(P, 4 B) and min(N, 4 B) = N keep their
-    // order. So the field is unchanged bit for bit, and interval pruning drops every term of P
-    // and N beyond 4 B over a box. The factor 4 (twice the distance) keeps the sign decidable by
-    // intervals: deep inside, where every term of P is gated, min(P, 4 B) = 4 B, whose interval
-    // lies above N's over boxes more than about three box widths from the surface (1 B would
-    // touch N's, and the sign would stay open everywhere).
-    const NodeId bound = g.binary(Op::Mul, b.vertex_bound(bound_vertices(f, points), box, extent / s), g.constant(4.0f));
+    // The vertex bound B (see vertex_bound) is above the computed min(P, N) everywhere: where
+    // P <= N, min(P, B) = P; where P > N, min(P, B) and min(N, B) = N keep their order. So the
+    // field is unchanged bit for bit, and interval pruning drops every term of P and N that
+    // starts beyond B over a box (eval/caps.hpp). Intervals then cannot settle the sign near the
+    // surface (min(P, B) meets min(N, B)); the field is an exact distance, so frep's renderers
+    // and meshers settle boxes from the value at their centre instead (Model::lipschitz), and the
+    // tight bound halves what a box keeps (docs/convert.md, "The vertex bound").
+    const NodeId bound = b.vertex_bound(bound_vertices(f, points), box, extent / s);
     root.d2 = g.binary(Op::Min, root.d2, bound);
     root.neg = g.binary(Op::Min, root.neg, bound);
     // sqrt(P) where P <= N, else -sqrt(N): compare(P, N) > 0 exactly where the nearest feature is

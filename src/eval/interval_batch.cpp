@@ -48,20 +48,33 @@ HWY_INLINE void Lanes(F f) {
   for (int j = 0; j < L; j += static_cast<int>(hn::Lanes(d))) f(d, j);
 }
 
-void EvalBoxes(const SsaInstr* code, std::size_t n, float* lo, float* hi, std::uint16_t* left,
-               std::uint16_t* right, std::uint16_t* fold, const float* box) {
+// Evaluates register code over 16 boxes. Per instruction k: choice and fold bit masks; for each
+// `min`, its arguments' bounds (alo, ahi, blo, bhi, 16 lanes each) appended to `mins` for the
+// caps of simplification; for each instruction with folded lanes, its 16 lower bounds appended to
+// `folds` (grown as needed). Registers hold [register][lane] bounds.
+// Returns the number of mins.
+std::size_t EvalBoxes(const RegInstr* code, std::size_t n, float* lo, float* hi, std::uint16_t* left,
+                      std::uint16_t* right, std::uint16_t* fold, float* mins, std::vector<float>& folds,
+                      std::uint32_t fold_lanes, const float* box) {
+  const float* const mins_begin = mins;
   const D d;
   const V nan = hn::Set(d, std::numeric_limits<float>::quiet_NaN());
   const V zero = hn::Zero(d);
   const V pinf = hn::Set(d, std::numeric_limits<float>::infinity()), ninf = hn::Neg(pinf);
+  alignas(64) float imm[L];
   for (std::size_t i = 0; i < n; ++i) {
-    const SsaInstr& ins = code[i];
-    float* HWY_RESTRICT olo = lo + i * L;
-    float* HWY_RESTRICT ohi = hi + i * L;
+    const RegInstr& ins = code[i];
+    float* HWY_RESTRICT olo = lo + static_cast<std::size_t>(ins.out) * L;
+    float* HWY_RESTRICT ohi = hi + static_cast<std::size_t>(ins.out) * L;
     const float* alo = lo + static_cast<std::size_t>(ins.a) * L;
     const float* ahi = hi + static_cast<std::size_t>(ins.a) * L;
     const float* blo = lo + static_cast<std::size_t>(ins.b) * L;
     const float* bhi = hi + static_cast<std::size_t>(ins.b) * L;
+    if (ins.mode) {
+      for (int j = 0; j < L; ++j) imm[j] = ins.imm;
+      if (ins.mode & RegInstr::kImmA) alo = ahi = imm;
+      else blo = bhi = imm;
+    }
     std::uint32_t lbits = 0, rbits = 0;
     auto store = [&](D dd, int j, V rl, V rh, M unknown) {
       hn::Store(hn::IfThenElse(unknown, nan, rl), dd, olo + j);
@@ -76,8 +89,8 @@ void EvalBoxes(const SsaInstr* code, std::size_t n, float* lo, float* hi, std::u
         std::memcpy(ohi, box + (2 * axis + 1) * L, L * sizeof(float));
         break;
       }
-      case Op::Const:
-        for (int j = 0; j < L; ++j) olo[j] = ohi[j] = ins.value;
+      case Op::Const:  // only as the whole code of a constant tape
+        for (int j = 0; j < L; ++j) olo[j] = ohi[j] = ins.imm;
         break;
       case Op::Add:
         Lanes([&](D dd, int j) {
@@ -100,8 +113,9 @@ void EvalBoxes(const SsaInstr* code, std::size_t n, float* lo, float* hi, std::u
         break;
       case Op::Neg:
         Lanes([&](D dd, int j) {
-          hn::Store(hn::Neg(hn::Load(dd, ahi + j)), dd, olo + j);
-          hn::Store(hn::Neg(hn::Load(dd, alo + j)), dd, ohi + j);
+          const V al = hn::Load(dd, alo + j), ah = hn::Load(dd, ahi + j);
+          hn::Store(hn::Neg(ah), dd, olo + j);
+          hn::Store(hn::Neg(al), dd, ohi + j);
         });
         break;
       case Op::Mul:
@@ -151,6 +165,11 @@ void EvalBoxes(const SsaInstr* code, std::size_t n, float* lo, float* hi, std::u
           const M unknown = hn::Or(hn::Or(hn::IsNaN(al), hn::IsNaN(ah)), hn::Or(hn::IsNaN(bl), hn::IsNaN(bh)));
           // Comparisons with NaN are false, so unknown lanes make no choice.
           if (is_min) {
+            // The arguments' bounds, for caps (before the result may overwrite an argument).
+            hn::Store(al, dd, mins + 0 * L + j);
+            hn::Store(ah, dd, mins + 1 * L + j);
+            hn::Store(bl, dd, mins + 2 * L + j);
+            hn::Store(bh, dd, mins + 3 * L + j);
             lbits |= Bits(dd, ah < bl) << j;
             rbits |= Bits(dd, bh < al) << j;
             store(dd, j, hn::Min(al, bl), hn::Min(ah, bh), unknown);
@@ -160,6 +179,7 @@ void EvalBoxes(const SsaInstr* code, std::size_t n, float* lo, float* hi, std::u
             store(dd, j, hn::Max(al, bl), hn::Max(ah, bh), unknown);
           }
         });
+        if (is_min) mins += 4 * L;
         break;
       }
       default: {
@@ -185,9 +205,12 @@ void EvalBoxes(const SsaInstr* code, std::size_t n, float* lo, float* hi, std::u
         const M single = l == h;
         fbits |= Bits(dd, zero_ok ? single : hn::And(single, NotZero(l))) << j;
       });
+      fbits &= fold_lanes;
+      if (fbits) folds.insert(folds.end(), olo, olo + L);
     }
     fold[i] = static_cast<std::uint16_t>(fbits);
   }
+  return static_cast<std::size_t>(mins - mins_begin) / (4 * L);
 }
 
 }  // namespace HWY_NAMESPACE
@@ -198,33 +221,46 @@ HWY_AFTER_NAMESPACE();
 namespace frep {
 HWY_EXPORT(EvalBoxes);
 
+namespace {
+
+// An aligned float buffer that only grows.
+void reserve(float*& p, std::size_t& capacity, std::size_t n) {
+  if (n <= capacity) return;
+  std::free(p);
+  p = static_cast<float*>(std::aligned_alloc(64, (n * sizeof(float) + 63) / 64 * 64));
+  if (!p) {
+    capacity = 0;
+    throw std::bad_alloc();
+  }
+  capacity = n;
+}
+
+}  // namespace
+
 IntervalBatchEvaluator::IntervalBatchEvaluator() = default;
 IntervalBatchEvaluator::~IntervalBatchEvaluator() {
-  std::free(lo_);
-  std::free(hi_);
-  std::free(scratch_);
+  std::free(regs_);
+  std::free(mins_);
 }
 
 void IntervalBatchEvaluator::eval(const Tape& tape, const Interval* x, const Interval* y, const Interval* z,
-                                  int count) {
+                                  int count, int simplified) {
   FREP_ASSERT(count >= 1 && count <= kLanes, "between 1 and 16 boxes");
-  const std::size_t n = tape.size();
-  FREP_ASSERT(n > 0, "empty tape");
-  if (n > capacity_) {
-    std::free(lo_);
-    std::free(hi_);
-    std::free(scratch_);
-    const std::size_t bytes = n * kLanes * sizeof(float);
-    lo_ = static_cast<float*>(std::aligned_alloc(64, bytes));
-    hi_ = static_cast<float*>(std::aligned_alloc(64, bytes));
-    scratch_ = static_cast<std::uint32_t*>(std::aligned_alloc(64, bytes));
-    if (!lo_ || !hi_ || !scratch_) throw std::bad_alloc();
-    capacity_ = n;
-    left_.resize(n);
-    right_.resize(n);
-    fold_.resize(n);
-  }
-  size_ = n;
+  FREP_ASSERT(simplified >= 0 && simplified <= kLanes, "at most 16 boxes to simplify");
+  FREP_ASSERT(tape.size() > 0, "empty tape");
+  FREP_ASSERT(!tape.code().empty(), "interval batches run register code");
+  const std::size_t regs = std::max<std::size_t>(tape.num_registers(), 1);
+  reserve(regs_, regs_capacity_, 2 * regs * kLanes);
+  float* const lo = regs_;
+  float* const hi = regs_ + regs * kLanes;
+  const std::size_t n = tape.code().size();
+  left_.resize(n);
+  right_.resize(n);
+  fold_.resize(n);
+  reserve(mins_, mins_capacity_, static_cast<std::size_t>(tape.choice_count()) * 4 * kLanes);
+  folds_.clear();
+  size_ = tape.size();
+  simplified_ = simplified;
   // Box bounds as six rows of 16 lanes; unused lanes repeat box 0.
   alignas(64) float box[6 * kLanes];
   for (int k = 0; k < kLanes; ++k) {
@@ -236,70 +272,89 @@ void IntervalBatchEvaluator::eval(const Tape& tape, const Interval* x, const Int
     box[4 * kLanes + k] = z[s].lo;
     box[5 * kLanes + k] = z[s].hi;
   }
-  HWY_DYNAMIC_DISPATCH(EvalBoxes)(tape.ssa().data(), n, lo_, hi_, left_.data(), right_.data(), fold_.data(), box);
+  mins_count_ = HWY_DYNAMIC_DISPATCH(EvalBoxes)(tape.code().data(), n, lo, hi, left_.data(), right_.data(),
+                                               fold_.data(), mins_, folds_, (1u << simplified) - 1, box);
+  const std::size_t root = static_cast<std::size_t>(tape.root_register()) * kLanes;
+  std::copy(lo + root, lo + root + kLanes, result_lo_);
+  std::copy(hi + root, hi + root + kLanes, result_hi_);
 }
 
-std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t lanes, Tape* outs, bool registers,
-                                              double max_kept) {
+std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t lanes, Tape* outs, double max_kept,
+                                              bool leaves) {
   const std::size_t n = size_;
-  FREP_ASSERT(tape.size() == n, "simplify needs the tape of the last eval");
-  lanes &= (1u << kLanes) - 1;
+  FREP_ASSERT(tape.size() == n && tape.code().size() == left_.size(), "simplify needs the tape of the last eval");
+  lanes &= (1u << simplified_) - 1;
   if (!lanes) return 0;
   const SsaInstr* in = tape.ssa().data();
-  // Backward pass for all boxes at once: live_[i] has a bit for each box that needs instruction
-  // i; fin_[i] a bit for each of those where its cap (eval/caps.hpp) is finite, held in scratch_.
+  const std::size_t choices = tape.choice_count();
+  // Backward pass for all boxes at once: live_[i] has a bit for each box that needs SSA
+  // instruction i; fin_[i] a bit for each of those where its cap (eval/caps.hpp) is finite. Caps
+  // are only read at min and max, so they are kept per choice (the choice's ordinal, from the
+  // tape), as are the sides a choice keeps. Register code has one instruction per SSA
+  // instruction that is not a constant, in the same order: `kc` walks it alongside.
   live_.assign(n, 0);
-  if (fin_.size() < n) fin_.resize(n);
-  if (sides_.size() < 2 * n) sides_.resize(2 * n);
+  grow_scratch(fin_, n);
+  grow_scratch(sides_, 2 * choices);
+  grow_scratch(caps_, choices * kLanes);
   live_[n - 1] = static_cast<std::uint16_t>(lanes);
   fin_[n - 1] = 0;
   std::uint16_t* live = live_.data();
   std::uint16_t* fin = fin_.data();
-  // Caps are kept as float bits in the scratch that the forward pass then uses for its remaps.
-  std::uint32_t* caps = scratch_;
-  const auto cap_of = [&](std::size_t j, int k) { return std::bit_cast<float>(caps[j * kLanes + static_cast<std::size_t>(k)]); };
+  float* caps = caps_.data();
   std::size_t kept[kLanes] = {};  // per box: live instructions, the most its tape can keep
   const auto use_uncapped = [&](std::uint32_t j, std::uint32_t bits) {
     fin[j] = static_cast<std::uint16_t>(fin[j] & ~bits);
     live[j] = static_cast<std::uint16_t>(live[j] | bits);
   };
+  // Marks j live for box k with cap c: kept (the largest of its caps) only where j is a min or
+  // max, the only instructions that read their cap.
   const auto use = [&](std::uint32_t j, int k, float c) {
     const std::uint32_t bit = 1u << k;
-    if (!(c < caps::kNone)) return use_uncapped(j, bit);
-    std::uint32_t& slot = caps[static_cast<std::size_t>(j) * kLanes + static_cast<std::size_t>(k)];
+    const Op op = in[j].op;
+    if (!(c < caps::kNone) || (op != Op::Min && op != Op::Max)) return use_uncapped(j, bit);
+    float& slot = caps[choice_ordinal(in[j]) * kLanes + static_cast<std::size_t>(k)];
     if (!(live[j] & bit)) {
-      slot = std::bit_cast<std::uint32_t>(c);
+      slot = c;
       fin[j] = static_cast<std::uint16_t>(fin[j] | bit);
     } else if (fin[j] & bit) {
-      slot = std::bit_cast<std::uint32_t>(std::max(std::bit_cast<float>(slot), c));
+      slot = std::max(slot, c);
     }
     live[j] = static_cast<std::uint16_t>(live[j] | bit);
   };
-  // Passes instruction i's own caps on to j for the boxes in `bits`.
+  // Passes min or max i's own caps on to j for the boxes in `bits`.
   const auto pass = [&](std::size_t i, std::uint32_t j, std::uint32_t bits) {
     use_uncapped(j, bits & ~static_cast<std::uint32_t>(fin[i]));
+    const float* ci = caps + choice_ordinal(in[i]) * kLanes;
     for (std::uint32_t b = bits & fin[i]; b; b &= b - 1) {
       const int k = __builtin_ctz(b);
-      use(j, k, cap_of(i, k));
+      use(j, k, ci[k]);
     }
   };
+  std::size_t kc = tape.code().size();
+  const float* mins = mins_ + mins_count_ * 4 * kLanes;
   for (std::size_t i = n; i-- > 0;) {
+    const SsaInstr& ins = in[i];
     const std::uint32_t m = live[i];
+    if (ins.op == Op::Const) {
+      for (std::uint32_t bits = m; bits; bits &= bits - 1) ++kept[__builtin_ctz(bits)];
+      continue;
+    }
+    --kc;
+    if (ins.op == Op::Min) mins -= 4 * kLanes;
     if (!m) continue;
     for (std::uint32_t bits = m; bits; bits &= bits - 1) ++kept[__builtin_ctz(bits)];
-    const SsaInstr& ins = in[i];
     const int ar = op_arity(ins.op);
     if (ar == 0) continue;
-    const std::uint32_t rest = m & ~static_cast<std::uint32_t>(fold_[i]);
+    const std::uint32_t rest = m & ~static_cast<std::uint32_t>(fold_[kc]);
     if (ins.op == Op::Min || ins.op == Op::Max) {
-      std::uint32_t l = rest & left_[i], r = rest & right_[i], both = rest & ~(l | r);
+      const std::size_t o = choice_ordinal(ins);
+      std::uint32_t l = rest & left_[kc], r = rest & right_[kc], both = rest & ~(l | r);
       if (ins.op == Op::Min) {
+        const float* ci = caps + o * kLanes;
         for (std::uint32_t bits = both; bits; bits &= bits - 1) {
           const int k = __builtin_ctz(bits);
-          const std::size_t ak = static_cast<std::size_t>(ins.a) * kLanes + k;
-          const std::size_t bk = static_cast<std::size_t>(ins.b) * kLanes + k;
-          const float c = fin[i] >> k & 1 ? cap_of(i, k) : caps::kNone;
-          const caps::MinCaps mc = caps::min_caps(c, lo_[ak], hi_[ak], lo_[bk], hi_[bk]);
+          const float c = fin[i] >> k & 1 ? ci[k] : caps::kNone;
+          const caps::MinCaps mc = caps::min_caps(c, mins[k], mins[kLanes + k], mins[2 * kLanes + k], mins[3 * kLanes + k]);
           if (mc.choice == Choice::Left) {
             l |= 1u << k;
           } else if (mc.choice == Choice::Right) {
@@ -316,14 +371,15 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
       }
       pass(i, ins.a, l);
       pass(i, ins.b, r);
-      sides_[2 * i] = static_cast<std::uint16_t>(l);
-      sides_[2 * i + 1] = static_cast<std::uint16_t>(r);
+      sides_[2 * o] = static_cast<std::uint16_t>(l);
+      sides_[2 * o + 1] = static_cast<std::uint16_t>(r);
     } else if (op_is_choice(ins.op)) {
-      const std::uint32_t l = rest & left_[i], r = rest & right_[i], both = rest & ~(l | r);
+      const std::size_t o = choice_ordinal(ins);
+      const std::uint32_t l = rest & left_[kc], r = rest & right_[kc], both = rest & ~(l | r);
       use_uncapped(ins.a, l | both);
       use_uncapped(ins.b, r | both);
-      sides_[2 * i] = static_cast<std::uint16_t>(l);
-      sides_[2 * i + 1] = static_cast<std::uint16_t>(r);
+      sides_[2 * o] = static_cast<std::uint16_t>(l);
+      sides_[2 * o + 1] = static_cast<std::uint16_t>(r);
     } else {
       use_uncapped(ins.a, rest);
       if (ar == 2) use_uncapped(ins.b, rest);
@@ -334,28 +390,43 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
     if (static_cast<double>(kept[k]) > max_kept * static_cast<double>(n)) lanes &= ~(1u << k);
   }
   if (!lanes) return 0;
-  // Forward pass: each box's builder sees only the instructions it needs.
+  // Forward pass: each box's builder sees only the instructions it needs; remaps are kept for
+  // the boxes being built only, side by side ([instruction][box]).
+  const int width = std::popcount(lanes);
+  grow_scratch(remap_, n * static_cast<std::size_t>(width));
   std::optional<Tape::Builder> builders[kLanes];
-  for (std::uint32_t bits = lanes; bits; bits &= bits - 1) {
+  for (std::uint32_t bits = lanes, slot = 0; bits; bits &= bits - 1, ++slot) {
     const int k = __builtin_ctz(bits);
-    builders[k].emplace(outs[k], n, registers, kept[k], scratch_ + k, kLanes);
+    builders[k].emplace(outs[k], n, true, kept[k], remap_.data() + slot, static_cast<std::size_t>(width));
+    if (!leaves) builders[k]->trivial_registers_up_to(kMaxTrivialIntervalRegisters);
   }
+  const float* folds = folds_.data();
+  kc = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t m = live_[i] & lanes;
-    if (!m) continue;
     const SsaInstr& ins = in[i];
+    const std::uint32_t m = live_[i] & lanes;
+    if (ins.op == Op::Const) {
+      for (std::uint32_t bits = m; bits; bits &= bits - 1) builders[__builtin_ctz(bits)]->keep(i, ins);
+      continue;
+    }
+    const std::size_t k_code = kc++;
+    const std::uint32_t fb = fold_[k_code];
+    const float* fold_values = folds;
+    if (fb) folds += kLanes;
+    if (!m) continue;
     if (op_arity(ins.op) == 0) {
       for (std::uint32_t bits = m; bits; bits &= bits - 1) builders[__builtin_ctz(bits)]->keep(i, ins);
       continue;
     }
-    const std::uint32_t f = m & fold_[i];
+    const std::uint32_t f = m & fb;
     const std::uint32_t rest = m & ~f;
     const bool choice = op_is_choice(ins.op);
-    const std::uint32_t l = choice ? rest & sides_[2 * i] : 0, r = choice ? rest & sides_[2 * i + 1] : 0;
+    const std::size_t o = choice ? choice_ordinal(ins) : 0;
+    const std::uint32_t l = choice ? rest & sides_[2 * o] : 0, r = choice ? rest & sides_[2 * o + 1] : 0;
     const std::uint32_t keep = rest & ~(l | r);
     for (std::uint32_t bits = f; bits; bits &= bits - 1) {
       const int k = __builtin_ctz(bits);
-      builders[k]->constant(i, lo_[i * kLanes + k]);
+      builders[k]->constant(i, fold_values[k]);
     }
     for (std::uint32_t bits = l; bits; bits &= bits - 1) builders[__builtin_ctz(bits)]->alias(i, ins.a);
     for (std::uint32_t bits = r; bits; bits &= bits - 1) builders[__builtin_ctz(bits)]->alias(i, ins.b);

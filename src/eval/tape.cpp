@@ -138,7 +138,7 @@ void Tape::rebuild(std::span<const SsaInstr> src, const Interval* values, const 
 
 void Tape::allocate_registers() {
   const std::size_t m = ssa_size_;
-  if (code_.size() < m) code_.resize(m);
+  grow_scratch(code_, m);
   if (ssa_[m - 1].op == Op::Const) {
     // A constant root: every other instruction is dead.
     RegInstr r;
@@ -150,14 +150,14 @@ void Tape::allocate_registers() {
     root_reg_ = 0;
     return;
   }
-  // Last use of every value (the root is never freed).
-  // Scratch kept in the tape (simplification into it reuses it, without new pages each time).
-  if (remap_.size() < m) remap_.resize(m);
-  if (last_use_.size() < m) last_use_.resize(m);
-  std::uint32_t* reg = remap_.data();
-  std::uint32_t* last_use = last_use_.data();
+  // Last use of every value (the root is never freed). The scratch is the thread's, not the
+  // tape's: many tapes are allocated, few at a time, and tapes only keep what they run.
+  thread_local std::vector<std::uint32_t> reg_scratch, last_use_scratch, free_regs;
+  grow_scratch(reg_scratch, m);
+  grow_scratch(last_use_scratch, m);
+  std::uint32_t* reg = reg_scratch.data();
+  std::uint32_t* last_use = last_use_scratch.data();
   std::fill(last_use, last_use + m, 0u);
-  std::vector<std::uint32_t>& free_regs = free_regs_;
   free_regs.clear();
   for (std::size_t i = 0; i < m; ++i) {
     const int ar = op_arity(ssa_[i].op);

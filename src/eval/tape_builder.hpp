@@ -11,9 +11,22 @@
 
 namespace frep {
 
+// Grows a buffer whose contents are about to be overwritten to at least n entries: by half again
+// at least (successive tapes written into one vary in size), freeing the old storage first so
+// that its contents are neither copied nor kept alongside.
+template <class V>
+void grow_scratch(V& v, std::size_t n) {
+  if (v.size() >= n) return;
+  const std::size_t want = std::max(n, v.size() + v.size() / 2);
+  V().swap(v);
+  v.resize(want);
+}
+
 // Up to this many values, one register per value beats running the allocator (the batch
-// evaluator's scratch stays small); beyond it registers are reused.
+// evaluator's scratch stays small); beyond it registers are reused. Tapes that only run interval
+// passes afford more (16 boxes' bounds per register: 512 KB at 4096).
 inline constexpr std::size_t kMaxTrivialRegisters = 384;
+inline constexpr std::size_t kMaxTrivialIntervalRegisters = 4096;
 
 // Compacts the kept instructions, folds those whose arguments all became constants (exactly),
 // and emits register code with one register per value on the fly.
@@ -26,16 +39,19 @@ class Tape::Builder {
           std::size_t stride = 1)
       : out_(out), registers_(registers), stride_(stride) {
     n_out = std::min(n_in, n_out);
-    if (out.ssa_.size() < n_out) out.ssa_.resize(n_out);
-    if (registers && out.code_.size() < n_out) out.code_.resize(n_out);
+    grow_scratch(out.ssa_, n_out);
+    if (registers) grow_scratch(out.code_, n_out);
     if (!remap) {
-      if (out.remap_.size() < n_in) out.remap_.resize(n_in);
+      grow_scratch(out.remap_, n_in);
       remap = out.remap_.data();
     }
     os_ = out.ssa_.data();
     oc_ = out.code_.data();
     remap_ = remap;
   }
+
+  // One register per value up to `n` values (default kMaxTrivialRegisters).
+  void trivial_registers_up_to(std::size_t n) { trivial_limit_ = n; }
 
   [[gnu::always_inline]] void alias(std::size_t i, std::uint32_t src) { remap_[i * stride_] = remap_[src * stride_]; }
 
@@ -64,8 +80,9 @@ class Tape::Builder {
       os_[m_++] = {Op::Const, 0, 0, op_eval<float>(ins.op, os_[a].value, cb ? os_[b].value : 0.0f)};
       return;
     }
-    choices_ += op_is_choice(ins.op);
-    os_[m_] = {ins.op, a, b, 0.0f};
+    const bool choice = op_is_choice(ins.op);
+    os_[m_] = {ins.op, a, b, choice ? std::bit_cast<float>(choices_) : 0.0f};
+    choices_ += choice;
     if (registers_) {
       RegInstr& r = oc_[k_++];
       r = {ins.op, 0, m_, a, b, 0.0f};
@@ -101,7 +118,7 @@ class Tape::Builder {
       t.code_size_ = 0;
       t.num_regs_ = 0;
       t.root_reg_ = 0;
-    } else if (os_[t.ssa_size_ - 1].op == Op::Const || t.ssa_size_ > kMaxTrivialRegisters) {
+    } else if (os_[t.ssa_size_ - 1].op == Op::Const || t.ssa_size_ > trivial_limit_) {
       t.allocate_registers();
     }
   }
@@ -109,6 +126,7 @@ class Tape::Builder {
  private:
   Tape& out_;
   bool registers_;
+  std::size_t trivial_limit_ = kMaxTrivialRegisters;
   std::size_t stride_;
   SsaInstr* os_;
   RegInstr* oc_;

@@ -13,6 +13,7 @@
 #include "convert_test_util.hpp"
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
+#include "frep/eval/subdivision.hpp"
 #include "frep/io/load.hpp"
 #include "frep/io/save.hpp"
 #include "frep/mesh/mesh_io.hpp"
@@ -164,20 +165,31 @@ TEST(Convert, ABoxOnTheSurfaceKeepsOnlyNearbyTerms) {
   EXPECT_LT(s.size() * 20, tape.size()) << s.size() << " of " << tape.size();
 }
 
-// Intervals settle the sign away from the surface: a box deep inside is entirely negative, one
-// outside entirely positive (what the mesher's and renderer's pruning needs), and each bounds the
-// exact distance there.
-TEST(Convert, IntervalsSettleTheSignInsideAndOutside) {
+// Away from the surface, a box's sign is settled: by intervals outside the mesh's bounding box
+// (the root is bounded by the distance to that box), and everywhere by the value at the box's
+// centre and the Lipschitz bound the conversion reports (intervals alone cannot settle it near
+// the surface: the vertex bound that makes pruning work caps both signs' terms).
+TEST(Convert, BoxesAwayFromTheSurfaceSettleTheirSign) {
   const TriMesh m = test::make_sphere(3, 1.0);  // 1280 triangles, inradius about 0.99
   const ConvertResult r = convert_mesh(m);
+  ASSERT_EQ(r.model.lipschitz, 1.0);
   const Tape tape = Tape::compile(*r.model.graph, r.model.root);
   IntervalEvaluator ie;
-  const Interval inside = ie.eval(tape, {-0.1f, 0.1f}, {-0.1f, 0.1f}, {0.2f, 0.3f});
+  const Interval far = ie.eval(tape, {1.5f, 1.7f}, {-0.1f, 0.1f}, {-0.1f, 0.1f});
+  EXPECT_GT(far.lo, 0.3f) << far.lo << " " << far.hi;
+  EXPECT_LE(far.lo, 0.51f);
+  PointEvaluator pe;
+  auto settle = [&](Interval x, Interval y, Interval z) {
+    const float c[3] = {0.5f * (x.lo + x.hi), 0.5f * (y.lo + y.hi), 0.5f * (z.lo + z.hi)};
+    const double r = 0.5 * std::sqrt(double(x.hi - x.lo) * (x.hi - x.lo) + double(y.hi - y.lo) * (y.hi - y.lo) +
+                                     double(z.hi - z.lo) * (z.hi - z.lo));
+    return lipschitz_bound(ie.eval(tape, x, y, z), Interval::point(pe.eval(tape, c[0], c[1], c[2])), 1.0, r, 2.0);
+  };
+  const Interval inside = settle({-0.1f, 0.1f}, {-0.1f, 0.1f}, {0.2f, 0.3f});
   EXPECT_LT(inside.hi, -0.5f) << inside.lo << " " << inside.hi;
   EXPECT_GE(inside.hi, -0.81f);  // the distance at (0.1, 0.1, 0.3) is above -0.8
-  const Interval outside = ie.eval(tape, {1.5f, 1.7f}, {-0.1f, 0.1f}, {-0.1f, 0.1f});
-  EXPECT_GT(outside.lo, 0.3f) << outside.lo << " " << outside.hi;
-  EXPECT_LE(outside.lo, 0.51f);
+  const Interval near = settle({1.1f, 1.2f}, {-0.05f, 0.05f}, {-0.05f, 0.05f});
+  EXPECT_GT(near.lo, 0.0f) << near.lo << " " << near.hi;
 }
 
 // Flat CAD parts shrink: coplanar neighbours share a plane, edges inside flat regions vanish.

@@ -199,7 +199,7 @@ TEST(Simplify, CapsDropMinTermsBeyondTheNearestAnywhereInTheTree) {
   for (float v = 0; v <= 1; v += 0.0625f) EXPECT_EQ(pe.eval(s, v, 0, 0), pe.eval(t2, v, 0, 0));
   // Leaving out boxes that would keep more than a fraction of the tape.
   batch.eval(t2, xs, zero, zero, 2);
-  EXPECT_EQ(batch.simplify(t2, 3u, outs, true, 0.5), 0u);
+  EXPECT_EQ(batch.simplify(t2, 3u, outs, 0.5), 0u);
 }
 
 // Regression (9b2043f): max(atan(x + y), 2) over x in [1, inf], y in [-inf, -1] must not be

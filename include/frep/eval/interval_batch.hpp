@@ -22,40 +22,42 @@ class IntervalBatchEvaluator {
   IntervalBatchEvaluator(const IntervalBatchEvaluator&) = delete;
   IntervalBatchEvaluator& operator=(const IntervalBatchEvaluator&) = delete;
 
-  // Evaluates `tape` over boxes x[k] * y[k] * z[k] for k < count (1 <= count <= kLanes).
-  // Same results as IntervalEvaluator box by box.
-  void eval(const Tape& tape, const Interval* x, const Interval* y, const Interval* z, int count);
+  // Evaluates `tape` (which must have register code) over boxes x[k] * y[k] * z[k] for k < count
+  // (1 <= count <= kLanes). Same results as IntervalEvaluator box by box. Only the first
+  // `simplified` boxes can be simplified for afterwards (the others only need their result).
+  void eval(const Tape& tape, const Interval* x, const Interval* y, const Interval* z, int count,
+            int simplified = kLanes);
 
   // The root's interval over box `lane` of the last eval.
-  Interval result(int lane) const { return value(size_ - 1, lane); }
-  // Instruction i's interval over box `lane`.
-  Interval value(std::size_t i, int lane) const {
-    return {lo_[i * kLanes + lane], hi_[i * kLanes + lane]};
-  }
-  // Choice of instruction i over box `lane` (Both for ops that are not min/max/and/or).
-  Choice choice(std::size_t i, int lane) const {
-    if (left_[i] >> lane & 1) return Choice::Left;
-    if (right_[i] >> lane & 1) return Choice::Right;
-    return Choice::Both;
-  }
+  Interval result(int lane) const { return {result_lo_[lane], result_hi_[lane]}; }
 
-  // Simplifies the last evaluated tape for every box whose bit is set in `lanes`, writing
-  // outs[lane] (see Tape::simplify). `tape` must be the tape of the last eval. Boxes that would
-  // keep more than `max_kept` of the tape's instructions are left out (`tape` serves them
-  // nearly as well, and writing a copy costs more than evaluating the rest). Returns the boxes
-  // whose tape was written.
-  std::uint32_t simplify(const Tape& tape, std::uint32_t lanes, Tape* outs, bool registers = true,
-                         double max_kept = 1.0);
+  // Simplifies the last evaluated tape for every box whose bit is set in `lanes` (among the
+  // first `simplified` of the last eval), writing
+  // outs[lane] with register code (see Tape::simplify). `tape` must be the tape of the last
+  // eval. Boxes that would keep more than `max_kept` of the tape's instructions are left out
+  // (`tape` serves them nearly as well, and writing a copy costs more than evaluating the rest).
+  // Returns the boxes whose tape was written. Without `leaves`, the outputs only run further
+  // interval passes, which afford one register per value on bigger tapes (no allocation pass).
+  std::uint32_t simplify(const Tape& tape, std::uint32_t lanes, Tape* outs, double max_kept = 1.0, bool leaves = true);
 
  private:
-  std::size_t size_ = 0;      // instructions of the last evaluated tape
-  std::size_t capacity_ = 0;  // instructions the buffers hold
-  float* lo_ = nullptr;       // [instruction][lane]
-  float* hi_ = nullptr;
-  std::vector<std::uint16_t> left_, right_, fold_;  // per instruction: lane bit masks
-  std::uint32_t* scratch_ = nullptr;  // [instruction][lane], for simplify: caps, then remaps
-  std::vector<std::uint16_t> live_, fin_;           // scratch for simplify
-  std::vector<std::uint16_t> sides_;  // scratch for simplify: per instruction, boxes keeping only a, only b
+  // The evaluation runs on registers, so its memory is the register file's, not the tape's:
+  // what simplification needs later is recorded on the way (choices, folded values, the
+  // arguments of every min for caps).
+  std::size_t size_ = 0;                           // SSA instructions of the last evaluated tape
+  int simplified_ = 0;                             // boxes of the last eval that simplify may take
+  float* regs_ = nullptr;                          // [register][lane] lower bounds, then upper bounds
+  std::size_t regs_capacity_ = 0;                  // floats
+  std::vector<std::uint16_t> left_, right_, fold_;  // per register instruction: lane bit masks
+  float* mins_ = nullptr;                          // per min: its arguments' bounds (alo, ahi, blo, bhi x 16 lanes)
+  std::size_t mins_capacity_ = 0, mins_count_ = 0;
+  std::vector<float> folds_;                       // per instruction with folded lanes: its 16 values
+  float result_lo_[kLanes] = {}, result_hi_[kLanes] = {};
+  // Scratch for simplify.
+  std::vector<std::uint16_t> live_, fin_;  // per SSA instruction: boxes needing it, boxes where it has a cap
+  std::vector<std::uint16_t> sides_;       // per choice: boxes keeping only a, only b
+  std::vector<float> caps_;                // per choice and box: its cap
+  std::vector<std::uint32_t> remap_;       // per SSA instruction and box built: its index in that box's tape
 };
 
 }  // namespace frep

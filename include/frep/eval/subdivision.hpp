@@ -99,7 +99,7 @@ inline Interval lipschitz_bound(Interval box, Interval centre, double lipschitz,
 //       before a box is evaluated; return true to drop it (e.g. occluded in a 3D render).
 //   static constexpr bool leaf_tape() { return false; }
 //       leaf() does not use its tape: the last level is then not simplified, and leaf() gets
-//       the parent's tape (valid in the box, possibly without register code).
+//       the parent's tape (valid in the box).
 // Visitor calls for different boxes may run concurrently on different workers.
 class Subdivider {
  public:
@@ -199,7 +199,7 @@ void Subdivider::settle(Worker& w, const Tape& t, const SampleGrid& grid, bool l
       }
       radius[k] = std::sqrt(radius[k]);
     }
-  w.boxes.eval(t, xi, yi, zi, centres ? 2 * count : count);
+  w.boxes.eval(t, xi, yi, zi, centres ? 2 * count : count, count);
   std::uint32_t open = 0;
   for (int k = 0; k < count; ++k) {
     Interval value = w.boxes.result(k);
@@ -207,15 +207,14 @@ void Subdivider::settle(Worker& w, const Tape& t, const SampleGrid& grid, bool l
     if (!v.settled(worker, boxes[k], value)) open |= 1u << k;
   }
   if (!open) return;
-  // Nothing to prune without choices, unless the children need register code; nothing to
-  // simplify for leaves that do not use their tape.
+  // Nothing to prune without choices; nothing to simplify for leaves that do not use their tape.
   bool leaf_tape = true;
   if constexpr (requires { Visitor::leaf_tape(); }) leaf_tape = Visitor::leaf_tape();
-  const bool reuse = (t.choice_count() == 0 && (!last || !t.code().empty())) || (last && !leaf_tape);
+  const bool reuse = t.choice_count() == 0 || (last && !leaf_tape);
   // A child that keeps most of a big parent uses the parent (valid in the child's box): writing
   // a copy of millions of instructions costs more than evaluating the rest (converted meshes at
   // the coarse levels).
-  const bool parent_serves = t.size() >= kBigTape && (!last || !t.code().empty());
+  const bool parent_serves = t.size() >= kBigTape;
   if (t.size() >= kBigTape && !reuse)
     for (std::uint32_t bits = open; bits && !w.spare.empty(); bits &= bits - 1) {
       Tape& d = dst[__builtin_ctz(bits)];
@@ -224,7 +223,7 @@ void Subdivider::settle(Worker& w, const Tape& t, const SampleGrid& grid, bool l
       d = std::move(w.spare.back());
       w.spare.pop_back();
     }
-  const std::uint32_t built = reuse ? 0 : w.boxes.simplify(t, open, dst, last, parent_serves ? kMaxKept : 1.0);
+  const std::uint32_t built = reuse ? 0 : w.boxes.simplify(t, open, dst, parent_serves ? kMaxKept : 1.0, last);
   for (std::uint32_t bits = open; bits; bits &= bits - 1) {
     const int k = __builtin_ctz(bits);
     const Tape* child = built >> k & 1 ? &dst[k] : &t;

@@ -2,6 +2,7 @@
 // after register allocation, which the point, batch and gradient evaluators run.
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -16,8 +17,12 @@ struct SsaInstr {
   Op op;
   std::uint32_t a = 0;
   std::uint32_t b = 0;
-  float value = 0;  // Op::Const only
+  float value = 0;  // Op::Const: the value; min/max/and/or in a tape: the bits of choice_ordinal
 };
+
+// A min/max/and/or instruction's ordinal among its tape's choices (0 first, in tape order), so
+// that evaluators can keep per-choice data in arrays of Tape::choice_count() entries.
+inline std::uint32_t choice_ordinal(const SsaInstr& s) { return std::bit_cast<std::uint32_t>(s.value); }
 
 // Register instruction. A constant argument is an immediate (`imm`), flagged in `mode`.
 struct RegInstr {
@@ -87,7 +92,6 @@ class Tape {
   std::vector<std::uint32_t> remap_;  // scratch for simplification into this tape
   std::vector<std::uint8_t> state_;   // scratch for simplification into this tape
   std::vector<float> caps_;           // scratch for simplification into this tape
-  std::vector<std::uint32_t> last_use_, free_regs_;  // scratch for register allocation
 };
 
 }  // namespace frep
