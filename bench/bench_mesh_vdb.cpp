@@ -103,7 +103,7 @@ frep::MeshOptions dc_options() {
   o.known_bounds = armadillo().box;
   if (std::getenv("FREP_TILES")) o.tiles = kTiles;
   const char* l = std::getenv("FREP_DC_LIPSCHITZ");
-  o.lipschitz = l ? std::atof(l) : armadillo().model.lipschitz;
+  o.lipschitz = l ? std::atof(l) : armadillo().model.info.lipschitz;
   return o;
 }
 

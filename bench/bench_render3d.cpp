@@ -64,7 +64,7 @@ const Setup* setup() {
     return nullptr;
   }
   st.row_step = std::max(1, std::atoi(env("FREP_RENDER3D_ROWS", "16").c_str()));
-  st.options.lipschitz = std::atof(env("FREP_RENDER3D_LIPSCHITZ", std::to_string(st.model.lipschitz)).c_str());
+  st.options.lipschitz = std::atof(env("FREP_RENDER3D_LIPSCHITZ", std::to_string(st.model.info.lipschitz)).c_str());
   if (const char* t = std::getenv("FREP_TILES")) {
     st.options.tiles.clear();
     for (const char* p = t; *p;) {

@@ -63,16 +63,15 @@ void register_clearance(CLI::App& app) {
       ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 32))
       ->capture_default_str();
   cmd->callback([a] {
-    ConvertStats ca, cb;
-    Model ma = load_input(a->a, &ca);
-    const Model mb = load_input(a->b, &cb);
+    Model ma = load_input(a->a);
+    const Model mb = load_input(a->b);
     const NodeId b_root = copy_into(*ma.graph, *mb.graph, mb.root);
     const Tape ta = Tape::compile(*ma.graph, ma.root), tb = Tape::compile(*ma.graph, b_root);
     // The shortest segment between two disjoint bodies, and the deepest point of an overlap, lie
     // in the box around both.
     const FieldOutputOptions none;
-    Box3 box = input_region(a->a, ca, ta, none);
-    box.add(input_region(a->b, cb, tb, none));
+    Box3 box = input_region(a->a, ma.info, ta, none);
+    box.add(input_region(a->b, mb.info, tb, none));
     ugf::ClearanceOptions o;
     o.tolerance = static_cast<float>(a->tolerance);
     o.max_boxes = a->max_boxes;

@@ -28,9 +28,14 @@ void register_info(CLI::App& app) {
     fmt::print("variables: {}\n", vars.empty() ? "none" : vars.substr(0, vars.size() - 1));
     fmt::print("tape: {} instructions, {} registers, {} choices (min/max/and/or)\n", tape.code().size(),
                tape.num_registers(), tape.choice_count());
-    if (m.lipschitz > 0)
-      fmt::print("lipschitz: {:g} (|f(p) - f(q)| <= {:g} |p - q|{})\n", m.lipschitz, m.lipschitz,
-                 m.lipschitz == 1 ? ": a distance field, as frep convert writes" : "");
+    if (m.info.lipschitz > 0)
+      fmt::print("lipschitz: {:g} (|f(p) - f(q)| <= {:g} |p - q|{})\n", m.info.lipschitz, m.info.lipschitz,
+                 m.info.lipschitz == 1 ? ": a distance field, as frep convert writes" : "");
+    if (!m.info.bounds.empty()) {
+      const Box3& b = m.info.bounds;
+      fmt::print("bounds: {:.9g}, {:.9g}, {:.9g} .. {:.9g}, {:.9g}, {:.9g} (holds every point where it is negative)\n",
+                 b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
+    }
     fmt::print("opcodes:\n");
     for (int op = 0; op < kOpCount; ++op)
       if (counts[op]) fmt::print("  {:<8} {}\n", op_name(static_cast<Op>(op)), counts[op]);

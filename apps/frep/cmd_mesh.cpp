@@ -110,6 +110,9 @@ void register_mesh(CLI::App& app) {
     const Model m = load_input(a->input);
     const Tape tape = Tape::compile(*m.graph, m.root);
     o.lipschitz = lipschitz_of(m, a->lipschitz);
+    // A box known to hold the inside (a mesh's, converted here or by frep convert) instead of the
+    // interval search, which is slow on big converted meshes.
+    if (a->bounds.empty()) o.known_bounds = m.info.bounds;
     // Progress on long runs, on a terminal only (carriage returns would clutter a log).
     const auto t0 = std::chrono::steady_clock::now();
     const bool show = !a->quiet && ::isatty(STDERR_FILENO);
@@ -134,7 +137,8 @@ void register_mesh(CLI::App& app) {
     const MeshStats& st = mesher.stats();
     if (!a->quiet) {
       if (st.bounds_known)
-        fmt::print("bounds: {} .. {} (the mesh's bounding box)\n", fmt_point(st.found.lo), fmt_point(st.found.hi));
+        fmt::print("bounds: {} .. {} (known from the input: the mesh's bounding box)\n", fmt_point(st.found.lo),
+                   fmt_point(st.found.hi));
       else if (st.bounds_found)
         fmt::print("bounds: {} .. {} (found by interval search of the expression in {} rounds)\n", fmt_point(st.found.lo),
                    fmt_point(st.found.hi), st.search_rounds);

@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
@@ -111,8 +112,9 @@ void register_render(CLI::App& app) {
                                 "3D: samples along each pixel's column (default 0: as many as pixels across the depth)")
                     ->check(CLI::Range(0, 65536));
   auto* bounds = cmd->add_option("--bounds", a->bounds,
-                                 "3D and slices: the region shown, x0,y0,z0,x1,y1,z1 (default -1,-1,-1,1,1,1); "
-                                 "3D views cut the shape at its faces")
+                                 "3D and slices: the region shown, x0,y0,z0,x1,y1,z1 (default: the box the input carries, "
+                                 "a mesh's bounding box, grown by 5%; else -1,-1,-1,1,1,1); 3D views cut the shape at "
+                                 "its faces")
                      ->delimiter(',')
                      ->expected(6);
   auto* contour = cmd->add_option("--contour", a->contour,
@@ -141,6 +143,14 @@ void register_render(CLI::App& app) {
     check_image_path(a->output, grayscale ? 1 : 3);
     const Model m = load_input(a->file);
     const Tape tape = Tape::compile(*m.graph, m.root);
+    // Without --bounds, 3D views and slices show the box the input says holds its inside (a mesh,
+    // converted here or by frep convert), grown by 5% of its longest side so that nothing is cut.
+    if (!bounds->count() && !m.info.bounds.empty()) {
+      const Vec3 size = m.info.bounds.size();
+      box = m.info.bounds.inflated(0.05 * std::max({size.x, size.y, size.z}));
+      for (int i = 0; i < 3; ++i)
+        if (!(box.lo[i] < box.hi[i])) box.lo[i] -= 1, box.hi[i] += 1;  // flat: give it some depth
+    }
     const auto t0 = std::chrono::steady_clock::now();
     Image img;
     if (three_d->count()) {

@@ -137,9 +137,12 @@ void register_sample(CLI::App& app) {
       } else {
         const Model m = load_expression(a->input);
         const Tape tape = Tape::compile(*m.graph, m.root);
-        if (!bounds && !a->quiet)
+        // The file's box of its inside (frep convert writes the mesh's), as for a mesh; else
+        // Fidget's usual region.
+        const bool known = !m.info.bounds.empty();
+        if (!bounds && !known && !a->quiet)
           std::fprintf(stderr, "frep sample: no --bounds given: sampling the expression over [-1,1]^3\n");
-        const Box3 b = bounds ? *bounds : Box3{{-1, -1, -1}, {1, 1, 1}};
+        const Box3 b = bounds ? *bounds : known ? default_mesh_bounds(m.info.bounds) : Box3{{-1, -1, -1}, {1, 1, 1}};
         used = b;
         if (a->grid) {
           ExprGridOptions eo;

@@ -44,16 +44,18 @@ void register_shell(CLI::App& app) {
   cmd->callback([a, o] {
     check_field_output_options(*o);
     check_field_output(a->output);
-    ConvertStats converted;
-    Model m = load_input(a->input, &converted);
+    Model m = load_input(a->input);
     o->lipschitz = lipschitz_of(m, o->lipschitz);  // every side keeps it (max and abs of L-Lipschitz fields)
     const float t = static_cast<float>(a->thickness);
     const Expr f = m.root_expr();
     const bool outward = a->side == "outward", inward = a->side == "inward";
     const Expr result = inward ? ugf::shell_inward(f, t) : outward ? ugf::shell_outward(f, t) : ugf::shell(f, t);
+    // The wall's inside: within the input's box grown by what the wall adds outside.
+    FieldInfo info{std::max(0.0, o->lipschitz), {}};
+    if (!m.info.bounds.empty()) info.bounds = m.info.bounds.inflated(inward ? 0.0 : outward ? a->thickness : a->thickness / 2);
     if (is_mesh_output(a->output)) {
       const double grow = o->bounds.empty() ? (inward ? 0.0 : outward ? a->thickness : a->thickness / 2) : 0.0;
-      const Box3 region = input_region(a->input, converted, Tape::compile(*m.graph, m.root), *o).inflated(grow);
+      const Box3 region = input_region(a->input, m.info, Tape::compile(*m.graph, m.root), *o).inflated(grow);
       const Vec3 size = region.size();
       const double cell = std::max({size.x, size.y, size.z}) / o->resolution;
       if (!o->quiet && a->thickness < 2 * cell)
@@ -61,9 +63,9 @@ void register_shell(CLI::App& app) {
                    "frep: warning: the wall ({:.6g}) is thinner than two cells ({:.6g}); parts of it may be lost in the "
                    "mesh: raise --resolution\n",
                    a->thickness, cell);
-      write_field_output(a->input, a->output, *m.graph, result.id(), region, *o);
+      write_field_output(a->input, a->output, *m.graph, result.id(), region, *o, info);
     } else {
-      write_field_output(a->input, a->output, *m.graph, result.id(), Box3{}, *o);
+      write_field_output(a->input, a->output, *m.graph, result.id(), Box3{}, *o, info);
     }
   });
 }

@@ -72,13 +72,12 @@ void check_field_output(const std::string& path) {
   check_output_directory(path);
 }
 
-Box3 input_region(const std::string& input, const ConvertStats& converted, const Tape& tape,
-                  const FieldOutputOptions& o) {
+Box3 input_region(const std::string& input, const FieldInfo& info, const Tape& tape, const FieldOutputOptions& o) {
   if (!o.bounds.empty())
     return Box3{{o.bounds[0], o.bounds[1], o.bounds[2]}, {o.bounds[3], o.bounds[4], o.bounds[5]}};
-  // A converted mesh: its bounding box (the interval search on big converted meshes takes far
-  // more memory and time).
-  if (converted.triangles > 0 && !converted.box.empty()) return converted.box;
+  // A converted mesh's bounding box (the interval search on big converted meshes takes far more
+  // time).
+  if (!info.bounds.empty()) return info.bounds;
   BoundsSearchOptions bs;
   bs.threads = o.threads;
   bs.lipschitz = std::max(0.0, o.lipschitz);
@@ -94,9 +93,9 @@ Box3 input_region(const std::string& input, const ConvertStats& converted, const
 }
 
 void write_field_output(const std::string& input, const std::string& path, const Graph& g, NodeId root,
-                        const Box3& region, const FieldOutputOptions& o) {
+                        const Box3& region, const FieldOutputOptions& o, const FieldInfo& info) {
   if (!is_mesh_output(path)) {
-    save_expression(path, g, root, std::max(0.0, o.lipschitz));
+    save_expression(path, g, root, info);
     if (!o.quiet) fmt::print("wrote {} (the expression)\n", path);
     return;
   }

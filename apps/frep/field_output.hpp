@@ -39,17 +39,16 @@ bool is_mesh_output(const std::string& path);
 // extension or its directory cannot be written.
 void check_field_output(const std::string& path);
 
-// A box holding the input's inside: `bounds` if given, a converted mesh's bounding box
-// (`converted`, from load_input), else found by interval search of the tape. InputError naming
-// `input` if the field is unbounded or empty.
-Box3 input_region(const std::string& input, const ConvertStats& converted, const Tape& tape,
-                  const FieldOutputOptions& o);
+// A box holding the input's inside: `bounds` if given, else the one the input carries
+// (FieldInfo::bounds: a mesh's bounding box), else found by interval search of the tape.
+// InputError naming `input` if the field is unbounded or empty.
+Box3 input_region(const std::string& input, const FieldInfo& info, const Tape& tape, const FieldOutputOptions& o);
 
 // Writes the field `root` of `g` to `path`: as an expression, or meshed by dual contouring with
 // `region` as the known box of its inside (one extra cell on every side), or over the given
 // --bounds exactly (cut and capped there). InputError naming `input` when the result is empty.
-// Expressions keep o.lipschitz (the operations of frep offset and frep shell keep the input's).
+// Expressions keep `info` (what is known of the result).
 void write_field_output(const std::string& input, const std::string& path, const Graph& g, NodeId root,
-                        const Box3& region, const FieldOutputOptions& o);
+                        const Box3& region, const FieldOutputOptions& o, const FieldInfo& info);
 
 }  // namespace frep::cli

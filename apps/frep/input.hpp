@@ -14,11 +14,11 @@ namespace frep::cli {
 Model load_input(const std::string& path, ConvertStats* stats = nullptr);
 
 // --lipschitz L: lets a command that subdivides space (render, mesh, offset, shell) assume
-// |f(p) - f(q)| <= L |p - q| (see Model::lipschitz). `value` stays negative unless given.
+// |f(p) - f(q)| <= L |p - q| (see FieldInfo::lipschitz). `value` stays negative unless given.
 void add_lipschitz_option(CLI::App* cmd, double& value);
 // The bound to use: the option's value if given, else the model's own (1 for a converted mesh or
 // a file frep convert wrote; 0, unknown, for other files).
-inline double lipschitz_of(const Model& m, double option) { return option >= 0 ? option : m.lipschitz; }
+inline double lipschitz_of(const Model& m, double option) { return option >= 0 ? option : m.info.lipschitz; }
 
 // Help text for such an input argument.
 inline constexpr const char* kFieldInputHelp =

@@ -203,7 +203,7 @@ ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
     // field is unchanged bit for bit, and interval pruning drops every term of P and N that
     // starts beyond B over a box (eval/caps.hpp). Intervals then cannot settle the sign near the
     // surface (min(P, B) meets min(N, B)); the field is an exact distance, so frep's renderers
-    // and meshers settle boxes from the value at their centre instead (Model::lipschitz), and the
+    // and meshers settle boxes from the value at their centre instead (FieldInfo::lipschitz), and the
     // tight bound halves what a box keeps (docs/convert.md, "The vertex bound").
     const NodeId bound = b.vertex_bound(bound_vertices(f, points), box, extent / s);
     root.d2 = g.binary(Op::Min, root.d2, bound);
@@ -226,7 +226,8 @@ ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
     r.model.root = with_box_bound(b, if_nonzero_else(inside, -dist, dist).id());
   }
   if (s != 1.0) r.model.root = g.binary(Op::Mul, r.model.root, g.constant(static_cast<float>(s)));
-  r.model.lipschitz = 1;  // an exact distance (both sign methods), in the mesh's own units
+  r.model.info.lipschitz = 1;  // an exact distance (both sign methods), in the mesh's own units
+  r.model.info.bounds = st.box;  // the solid is inside its triangles' bounding box
   st.nodes = reachable_nodes(g, r.model.root).size();
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   report(o, "done", 1.0);

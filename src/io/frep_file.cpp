@@ -2,6 +2,8 @@
 #include "frep/io/frep_file.hpp"
 
 #include <array>
+#include <cmath>
+#include <limits>
 #include <cstdint>
 #include <cstring>
 
@@ -11,9 +13,9 @@
 namespace frep {
 namespace {
 
-constexpr std::uint32_t kVersion = 1;
-constexpr std::size_t kHeader = 8 + 4 + 4 + 8 + 8;
-constexpr std::uint32_t kFlagDistance = 1;  // the field is 1-Lipschitz
+constexpr std::uint32_t kVersion = 2;
+constexpr std::size_t kHeaderV1 = 8 + 4 + 4 + 8 + 8;
+constexpr std::size_t kHeader = kHeaderV1 + 7 * 8;  // + Lipschitz bound and box
 
 // CRC-32 (reflected polynomial 0xEDB88320, as zlib's crc32), four table lookups per word.
 const std::array<std::array<std::uint32_t, 256>, 4>& crc_tables() {
@@ -70,7 +72,7 @@ T get(std::string_view b, std::size_t at) {
 
 bool is_frep_file(std::string_view bytes) { return bytes.substr(0, kFrepMagic.size()) == kFrepMagic; }
 
-std::string serialize_frep(const Graph& g, NodeId root, double lipschitz) {
+std::string serialize_frep(const Graph& g, NodeId root, const FieldInfo& info) {
   const std::vector<NodeId> order = reachable_nodes(g, root);
   std::vector<std::uint64_t> index(static_cast<std::size_t>(root) + 1, 0);
   for (std::size_t i = 0; i < order.size(); ++i) index[order[i]] = i;
@@ -78,9 +80,13 @@ std::string serialize_frep(const Graph& g, NodeId root, double lipschitz) {
   out.reserve(kHeader + order.size() * 4 + 4);
   out.append(kFrepMagic);
   put<std::uint32_t>(out, kVersion);
-  put<std::uint32_t>(out, lipschitz == 1 ? kFlagDistance : 0);
+  put<std::uint32_t>(out, 0);
   put<std::uint64_t>(out, order.size());
   put<std::uint64_t>(out, order.size() - 1);  // the root is last in topological order
+  put<double>(out, info.lipschitz > 0 ? info.lipschitz : 0.0);
+  const double unknown = std::numeric_limits<double>::quiet_NaN();
+  for (const Vec3* v : {&info.bounds.lo, &info.bounds.hi})
+    for (int a = 0; a < 3; ++a) put<double>(out, info.bounds.empty() ? unknown : (*v)[a]);
   for (std::size_t i = 0; i < order.size(); ++i) {
     const Node& n = g.node(order[i]);
     out.push_back(static_cast<char>(n.op));
@@ -93,8 +99,8 @@ std::string serialize_frep(const Graph& g, NodeId root, double lipschitz) {
   return out;
 }
 
-void save_frep(const std::string& path, const Graph& g, NodeId root, double lipschitz) {
-  write_file_atomically(path, serialize_frep(g, root, lipschitz));
+void save_frep(const std::string& path, const Graph& g, NodeId root, const FieldInfo& info) {
+  write_file_atomically(path, serialize_frep(g, root, info));
 }
 
 Model parse_frep(std::string_view b, const std::string& name) {
@@ -102,11 +108,13 @@ Model parse_frep(std::string_view b, const std::string& name) {
     return InputError(name, 0, what, at == 0 ? 1 : at);  // byte offsets are 1-based in messages' eyes
   };
   if (!is_frep_file(b)) throw fail(0, "not a .frep file (wrong magic bytes)");
-  if (b.size() < kHeader + 4) throw fail(b.size(), "truncated .frep file (" + std::to_string(b.size()) + " bytes, header incomplete)");
+  if (b.size() < kHeaderV1 + 4) throw fail(b.size(), "truncated .frep file (" + std::to_string(b.size()) + " bytes, header incomplete)");
   const auto version = get<std::uint32_t>(b, 8);
-  if (version != kVersion)
-    throw fail(8, ".frep format version " + std::to_string(version) + " is not supported (this frep reads version " +
+  if (version != 1 && version != kVersion)
+    throw fail(8, ".frep format version " + std::to_string(version) + " is not supported (this frep reads versions 1 to " +
                       std::to_string(kVersion) + ")");
+  const std::size_t header = version == 1 ? kHeaderV1 : kHeader;
+  if (b.size() < header + 4) throw fail(b.size(), "truncated .frep file (" + std::to_string(b.size()) + " bytes, header incomplete)");
   const auto count = get<std::uint64_t>(b, 16), root = get<std::uint64_t>(b, 24);
   // Each node takes at least one byte: a count beyond the file's size is truncation or garbage.
   if (count == 0 || count > b.size()) throw fail(16, "truncated or corrupted .frep file (node count " + std::to_string(count) + ")");
@@ -114,11 +122,22 @@ Model parse_frep(std::string_view b, const std::string& name) {
     throw fail(b.size() - 4, "corrupted or truncated .frep file (checksum mismatch)");
   if (root >= count) throw fail(24, "root index " + std::to_string(root) + " is not a node");
   Model m;
+  if (version >= 2) {
+    const double lipschitz = get<double>(b, kHeaderV1);
+    if (!(lipschitz >= 0) || !std::isfinite(lipschitz)) throw fail(kHeaderV1, "bad Lipschitz bound in the header");
+    m.info.lipschitz = lipschitz;
+    double v[6];
+    int known = 0;
+    for (int i = 0; i < 6; ++i) known += !std::isnan(v[i] = get<double>(b, kHeaderV1 + 8 + 8 * static_cast<std::size_t>(i)));
+    const Box3 box{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
+    if (known == 6 && std::isfinite(v[0] + v[1] + v[2] + v[3] + v[4] + v[5]) && !box.empty()) m.info.bounds = box;
+    else if (known != 0) throw fail(kHeaderV1 + 8, "bad bounds in the header");
+  }
   Graph& g = *m.graph;
   std::vector<NodeId> ids;
   ids.reserve(count);
   g.reserve(count);
-  std::size_t at = kHeader;
+  std::size_t at = header;
   const std::size_t end = b.size() - 4;
   auto varint = [&](std::size_t i) -> NodeId {
     std::uint64_t v = 0;
@@ -150,7 +169,6 @@ Model parse_frep(std::string_view b, const std::string& name) {
   }
   if (at != end) throw fail(at, std::to_string(end - at) + " unexpected bytes after the last node");
   m.root = ids[root];
-  if (get<std::uint32_t>(b, 12) & kFlagDistance) m.lipschitz = 1;
   return m;
 }
 

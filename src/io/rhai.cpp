@@ -4,7 +4,7 @@
 
 #include "frep/io/atomic_file.hpp"
 #include "io/rhai_interp.hpp"
-#include "io/text_scan.hpp"
+#include "io/field_info.hpp"
 
 namespace frep {
 
@@ -12,7 +12,7 @@ Model parse_rhai(std::string_view text, const std::string& name, const RhaiOptio
   Model m;
   rhai::Interp interp(text, name, options, *m.graph);
   m.root = interp.run();
-  m.lipschitz = detail::leading_lipschitz(text, "//", name);
+  m.info = detail::leading_field_info(text, "//", name);
   return m;
 }
 

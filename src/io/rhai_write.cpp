@@ -21,6 +21,7 @@
 
 #include "frep/io/atomic_file.hpp"
 #include "frep/io/rhai.hpp"
+#include "io/field_info.hpp"
 
 namespace frep {
 namespace {
@@ -77,7 +78,7 @@ class Writer {
  public:
   Writer(const Graph& g, NodeId root) : g_(g), root_(root) {}
 
-  void write(std::ostream& out, double lipschitz) {
+  void write(std::ostream& out, const FieldInfo& info) {
     const std::vector<NodeId> order = reachable_nodes(g_, root_);
     uses_.assign(root_ + 1, 0);
     name_.assign(root_ + 1, kNoName);
@@ -101,10 +102,7 @@ class Writer {
     buf += "// Written by frep: " + std::to_string(order.size()) + " nodes";
     buf += bound ? ", " + std::to_string(bound) + " variables" : std::string();
     buf += ". The last expression is the shape.\n";
-    if (lipschitz > 0) {
-      const std::string l = constant_text(static_cast<float>(lipschitz));
-      buf += "// frep: lipschitz " + l + " (|f(p) - f(q)| <= " + l + " |p - q|)\n";
-    }
+    buf += detail::field_info_comments(info, "//");
     std::uint32_t next = 0;
     for (NodeId id : order) {
       if (name_[id] == kNoName) continue;
@@ -222,10 +220,10 @@ class Writer {
 
 }  // namespace
 
-void write_rhai(std::ostream& out, const Graph& g, NodeId root, double lipschitz) { Writer(g, root).write(out, lipschitz); }
+void write_rhai(std::ostream& out, const Graph& g, NodeId root, const FieldInfo& info) { Writer(g, root).write(out, info); }
 
-void save_rhai(const std::string& path, const Graph& g, NodeId root, double lipschitz) {
-  write_file_atomically(path, [&](std::ostream& out) { write_rhai(out, g, root, lipschitz); });
+void save_rhai(const std::string& path, const Graph& g, NodeId root, const FieldInfo& info) {
+  write_file_atomically(path, [&](std::ostream& out) { write_rhai(out, g, root, info); });
 }
 
 }  // namespace frep

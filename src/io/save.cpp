@@ -24,14 +24,14 @@ Format format_of(const std::string& path) {
 
 void check_expression_path(const std::string& path) { format_of(path); }
 
-void save_expression(const std::string& path, const Graph& g, NodeId root, double lipschitz) {
+void save_expression(const std::string& path, const Graph& g, NodeId root, const FieldInfo& info) {
   switch (format_of(path)) {
-    case Format::Vm: return save_vm(path, g, root, lipschitz);
-    case Format::Frep: return save_frep(path, g, root, lipschitz);
-    case Format::Rhai: return save_rhai(path, g, root, lipschitz);
+    case Format::Vm: return save_vm(path, g, root, info);
+    case Format::Frep: return save_frep(path, g, root, info);
+    case Format::Rhai: return save_rhai(path, g, root, info);
   }
 }
 
-void save_expression(const std::string& path, const Model& m) { save_expression(path, *m.graph, m.root, m.lipschitz); }
+void save_expression(const std::string& path, const Model& m) { save_expression(path, *m.graph, m.root, m.info); }
 
 }  // namespace frep

@@ -149,33 +149,4 @@ inline float load_f32le(const char* p) {
 }
 
 
-// The `frep: lipschitz L` marker frep's writers put in a leading comment (see Model::lipschitz),
-// among the comment lines before the first other line (`comment` is "#" or "//"): L, or 0 if
-// there is none. A marker without a finite L >= 0 is an InputError naming its line.
-inline double leading_lipschitz(std::string_view text, std::string_view comment, const std::string& name) {
-  constexpr std::string_view kMarker = "frep: lipschitz";
-  std::size_t pos = text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;  // UTF-8 byte order mark
-  for (std::uint64_t line = 1; pos < text.size(); ++line) {
-    std::size_t eol = text.find('\n', pos);
-    if (eol == std::string_view::npos) eol = text.size();
-    std::string_view l = text.substr(pos, eol - pos);
-    pos = eol + 1;
-    while (!l.empty() && is_space(l.front())) l.remove_prefix(1);
-    while (!l.empty() && is_space(l.back())) l.remove_suffix(1);
-    if (l.empty()) continue;
-    if (l.substr(0, comment.size()) != comment) return 0;
-    l.remove_prefix(comment.size());
-    while (!l.empty() && is_space(l.front())) l.remove_prefix(1);
-    if (l.substr(0, kMarker.size()) != kMarker) continue;
-    l.remove_prefix(kMarker.size());
-    while (!l.empty() && is_space(l.front())) l.remove_prefix(1);
-    const std::string_view tok = l.substr(0, std::min(l.find(' '), l.size()));
-    double v = 0;
-    if (!parse_double(tok, v) || !std::isfinite(v) || v < 0)
-      throw InputError(name, line, "bad 'frep: lipschitz' comment: expected a number >= 0, got " + quoted(tok));
-    return v;
-  }
-  return 0;
-}
-
 }  // namespace frep::detail

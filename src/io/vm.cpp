@@ -10,6 +10,7 @@
 #include "frep/error.hpp"
 #include "frep/io/atomic_file.hpp"
 #include "io/parse_number.hpp"
+#include "io/field_info.hpp"
 #include "io/text_scan.hpp"
 
 namespace frep {
@@ -186,19 +187,16 @@ Model parse_vm(std::string_view text, const std::string& name) {
     }
   }
   model.root = built.back();
-  model.lipschitz = detail::leading_lipschitz(text, "#", name);
+  model.info = detail::leading_field_info(text, "#", name);
   return model;
 }
 
 Model read_vm(const std::string& path) { return parse_vm(read_file(path), path); }
 
-void write_vm(std::ostream& out, const Graph& g, NodeId root, double lipschitz) {
+void write_vm(std::ostream& out, const Graph& g, NodeId root, const FieldInfo& info) {
   const std::vector<NodeId> order = reachable_nodes(g, root);
+  out << detail::field_info_comments(info, "#");
   char buf[64];
-  if (lipschitz > 0) {
-    std::snprintf(buf, sizeof buf, "%.9g", lipschitz);
-    out << "# frep: lipschitz " << buf << " (|f(p) - f(q)| <= " << buf << " |p - q|)\n";
-  }
   std::vector<std::uint32_t> index(root + 1, 0);
   for (std::uint32_t i = 0; i < order.size(); ++i) index[order[i]] = i;
   bool has_recip = false;
@@ -226,8 +224,8 @@ void write_vm(std::ostream& out, const Graph& g, NodeId root, double lipschitz) 
   }
 }
 
-void save_vm(const std::string& path, const Graph& g, NodeId root, double lipschitz) {
-  write_file_atomically(path, [&](std::ostream& out) { write_vm(out, g, root, lipschitz); });
+void save_vm(const std::string& path, const Graph& g, NodeId root, const FieldInfo& info) {
+  write_file_atomically(path, [&](std::ostream& out) { write_vm(out, g, root, info); });
 }
 
 }  // namespace frep

@@ -172,7 +172,7 @@ TEST(Convert, ABoxOnTheSurfaceKeepsOnlyNearbyTerms) {
 TEST(Convert, BoxesAwayFromTheSurfaceSettleTheirSign) {
   const TriMesh m = test::make_sphere(3, 1.0);  // 1280 triangles, inradius about 0.99
   const ConvertResult r = convert_mesh(m);
-  ASSERT_EQ(r.model.lipschitz, 1.0);
+  ASSERT_EQ(r.model.info.lipschitz, 1.0);
   const Tape tape = Tape::compile(*r.model.graph, r.model.root);
   IntervalEvaluator ie;
   const Interval far = ie.eval(tape, {1.5f, 1.7f}, {-0.1f, 0.1f}, {-0.1f, 0.1f});

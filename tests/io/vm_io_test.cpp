@@ -150,39 +150,53 @@ TEST(VmWrite, SaveIsAtomicAndFailsCleanly) {
   fs::remove_all(dir);
 }
 
-// A Lipschitz bound (Model::lipschitz) survives every expression format: a leading comment in
-// .vm and .rhai, a flag in .frep (which keeps only L = 1). Fidget ignores the comments.
-TEST(ExpressionFiles, LipschitzBoundRoundTrips) {
-  const fs::path dir = fs::temp_directory_path() / ("frep_lipschitz_test_" + std::to_string(::getpid()));
+// What is known of a field (FieldInfo: its Lipschitz bound and the box of its inside) survives
+// every expression format: leading comments in .vm and .rhai (which Fidget ignores), the header
+// of .frep.
+TEST(ExpressionFiles, FieldInfoRoundTrips) {
+  const fs::path dir = fs::temp_directory_path() / ("frep_field_info_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   Model m;
   m.root = (sqrt(square(m.graph->x()) + square(m.graph->y()) + square(m.graph->z())) - 0.5f).id();
+  const Box3 box{{-0.1, -2.5e-7, 3}, {0.30000000000000004, 1e300, 3}};
   for (double l : {0.0, 1.0, 2.5})
-    for (const char* ext : {".vm", ".rhai", ".frep"}) {
-      m.lipschitz = l;
-      const std::string path = (dir / (std::string("m") + ext)).string();
-      save_expression(path, m);
-      const double want = std::string(ext) == ".frep" && l != 1 ? 0 : l;
-      EXPECT_EQ(load_expression(path).lipschitz, want) << ext << ", L = " << l;
-    }
+    for (bool bounded : {false, true})
+      for (const char* ext : {".vm", ".rhai", ".frep"}) {
+        m.info.lipschitz = l;
+        m.info.bounds = bounded ? box : Box3{};
+        const std::string path = (dir / (std::string("m") + ext)).string();
+        save_expression(path, m);
+        const FieldInfo got = load_expression(path).info;
+        EXPECT_EQ(got.lipschitz, l) << ext << ", L = " << l;
+        EXPECT_EQ(got.bounds.empty(), !bounded) << ext;
+        if (bounded)
+          for (int a = 0; a < 3; ++a) {
+            EXPECT_EQ(got.bounds.lo[a], box.lo[a]) << ext << " axis " << a;
+            EXPECT_EQ(got.bounds.hi[a], box.hi[a]) << ext << " axis " << a;
+          }
+      }
   fs::remove_all(dir);
-  EXPECT_EQ(parse_vm("# frep: lipschitz 1 (a distance)\n_0 var-x\n", "a.vm").lipschitz, 1.0);
-  EXPECT_EQ(parse_vm("\n  #   frep: lipschitz 0.5\n# other\n_0 var-x\n", "a.vm").lipschitz, 0.5);
+  EXPECT_EQ(parse_vm("# frep: lipschitz 1 (a distance)\n_0 var-x\n", "a.vm").info.lipschitz, 1.0);
+  EXPECT_EQ(parse_vm("\n  #   frep: lipschitz 0.5\n# other\n_0 var-x\n", "a.vm").info.lipschitz, 0.5);
+  EXPECT_EQ(parse_vm("# frep: bounds 0 1 2 3 4 5\n_0 var-x\n", "a.vm").info.bounds.hi.z, 5.0);
+  EXPECT_EQ(parse_vm("# frep: someday 1\n_0 var-x\n", "a.vm").info.lipschitz, 0.0);  // unknown facts are ignored
   // Only leading comments count; other comments mentioning it are ignored.
-  EXPECT_EQ(parse_vm("_0 var-x\n# frep: lipschitz 1\n", "a.vm").lipschitz, 0.0);
-  EXPECT_EQ(parse_vm("# frep lipschitz 1\n_0 var-x\n", "a.vm").lipschitz, 0.0);
+  EXPECT_EQ(parse_vm("_0 var-x\n# frep: lipschitz 1\n", "a.vm").info.lipschitz, 0.0);
+  EXPECT_EQ(parse_vm("# frep lipschitz 1\n_0 var-x\n", "a.vm").info.lipschitz, 0.0);
   for (const char* bad : {"# frep: lipschitz\n_0 var-x\n", "# frep: lipschitz -1\n_0 var-x\n",
-                          "\n# frep: lipschitz nan\n_0 var-x\n", "# frep: lipschitz 1x\n_0 var-x\n"}) {
+                          "\n# frep: lipschitz nan\n_0 var-x\n", "# frep: lipschitz 1x\n_0 var-x\n",
+                          "# frep: bounds 0 0 0 1 1\n_0 var-x\n", "# frep: bounds 0 0 0 1 inf 1\n_0 var-x\n",
+                          "# frep: bounds 2 0 0 1 1 1\n_0 var-x\n"}) {
     try {
       parse_vm(bad, "bad.vm");
       ADD_FAILURE() << "accepted " << bad;
     } catch (const InputError& e) {
       EXPECT_EQ(e.file(), "bad.vm");
       EXPECT_GE(e.line(), 1u);
-      EXPECT_NE(std::string(e.what()).find("lipschitz"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("frep: "), std::string::npos) << e.what();
     }
   }
-  EXPECT_EQ(parse_rhai("// frep: lipschitz 1\nx", "a.rhai").lipschitz, 1.0);
+  EXPECT_EQ(parse_rhai("// frep: lipschitz 1\nx", "a.rhai").info.lipschitz, 1.0);
 }
 
 // ---------------------------------------------------------------------------------------------

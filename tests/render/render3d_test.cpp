@@ -307,7 +307,7 @@ TEST(Render3D, LipschitzBoundOnExactDistancesEqualsBruteForce) {
   meshes.emplace_back("converted box", convert_mesh(test::make_box({-0.5, -0.4, -0.6}, {0.6, 0.5, 0.3})));
   meshes.emplace_back("converted sphere", convert_mesh(test::make_sphere(2, 0.7)));
   for (const auto& [name, r] : meshes) {
-    ASSERT_EQ(r.model.lipschitz, 1.0) << "a converted mesh is an exact distance";
+    ASSERT_EQ(r.model.info.lipschitz, 1.0) << "a converted mesh is an exact distance";
     const Tape t = Tape::compile(*r.model.graph, r.model.root);
     for (auto [view, yaw] : {std::pair{ViewDirection::Front, 0.0}, {ViewDirection::Iso, 17.0}}) {
       Render3DOptions o = options(40, view, yaw);

@@ -34,9 +34,9 @@ Model read_rhai(const std::string& path, const RhaiOptions& options = {});
 // parse_rhai reads back to a graph evaluating bit for bit the same: only Fidget's functions and
 // operators (`recip a` is written `1.0 / a`, `mod` as `%`), constants with %.9g (exact in f32),
 // a `let` for every node used more than once and wherever a line would grow too long or too
-// deep; the last line is the shape. A `lipschitz` > 0 (Model::lipschitz) goes into a leading `frep: lipschitz L` comment.
-void write_rhai(std::ostream& out, const Graph& g, NodeId root, double lipschitz = 0);
+// deep; the last line is the shape. `info` (what else is known of the field) goes into leading `frep:` comments.
+void write_rhai(std::ostream& out, const Graph& g, NodeId root, const FieldInfo& info = {});
 // Writes atomically to `path`.
-void save_rhai(const std::string& path, const Graph& g, NodeId root, double lipschitz = 0);
+void save_rhai(const std::string& path, const Graph& g, NodeId root, const FieldInfo& info = {});
 
 }  // namespace frep

@@ -11,8 +11,8 @@ namespace frep {
 // `.vm` (Fidget's text format), `.rhai` (a Fidget script) or `.frep` (frep's binary format);
 // written atomically. Throws
 // InputError for another extension (naming the supported ones) or an unwritable path.
-void save_expression(const std::string& path, const Graph& g, NodeId root, double lipschitz = 0);
-// The same with the model's Lipschitz bound (Model::lipschitz), which the file keeps.
+void save_expression(const std::string& path, const Graph& g, NodeId root, const FieldInfo& info = {});
+// The same with what the model knows of its field (Model::info), which the file keeps.
 void save_expression(const std::string& path, const Model& m);
 
 // Throws the same InputError as save_expression would for an unsupported extension, so that a

@@ -17,9 +17,9 @@ Model parse_vm(std::string_view text, const std::string& name = "");
 Model read_vm(const std::string& path);
 
 // Writes the part of `g` reachable from `root` as `.vm`, root last. Only Fidget's opcodes are
-// used: `recip x` is written as `div 1 x`, which Fidget's reader understands. A `lipschitz` > 0 (Model::lipschitz) goes into a leading `frep: lipschitz L` comment.
-void write_vm(std::ostream& out, const Graph& g, NodeId root, double lipschitz = 0);
+// used: `recip x` is written as `div 1 x`, which Fidget's reader understands. `info` (what else is known of the field) goes into leading `frep:` comments.
+void write_vm(std::ostream& out, const Graph& g, NodeId root, const FieldInfo& info = {});
 // Writes atomically to `path`.
-void save_vm(const std::string& path, const Graph& g, NodeId root, double lipschitz = 0);
+void save_vm(const std::string& path, const Graph& g, NodeId root, const FieldInfo& info = {});
 
 }  // namespace frep
