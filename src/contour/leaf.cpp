@@ -291,20 +291,26 @@ void LeafMesher::find_normals(const Tape& tape) {
     crossings_[i].n = Vec3f(normalized_or_zero(g.dx, g.dy, g.dz));
   }
   // Where the root lands exactly on the surface of an exact distance such as sqrt(d^2) (a
-  // converted mesh), the gradient is 0 by convention (sqrt'(0) = 0): take the normal from the
-  // root bracket's ends instead, the outside one first (within the root tolerance), so that
-  // the QEF still sees the planes and sharp corners stay sharp.
-  for (const std::vector<float>* end : {&t_out_, &t_in_}) {
+  // converted mesh), the gradient is 0 by convention (sqrt'(0) = 0): take the normal just outside
+  // the surface along the edge (a thousandth of a cell beyond the bracket's outside end, where the
+  // nearest feature is still the one the crossing lies on), else at the bracket's outside end,
+  // else at its inside end, so that the QEF still sees the planes and sharp corners stay sharp.
+  // (A corner exactly on a face is its own crossing: its inside end is a cell away, where the
+  // nearest feature may be another face.)
+  for (int stage = 0; stage < 3; ++stage) {
     retry_.clear();
     for (std::size_t i = 0; i < n; ++i)
       if (crossings_[i].n == Vec3f{0, 0, 0}) retry_.push_back(static_cast<std::uint32_t>(i));
     if (retry_.empty()) return;
     const std::size_t m = retry_.size();
     for (std::size_t k = 0; k < m; ++k) {
-      const Crossing& c = crossings_[retry_[k]];
+      const std::uint32_t i = retry_[k];
+      const Crossing& c = crossings_[i];
       const Vec3 p0 = corner_position(c.corner), p1 = corner_position(c.corner + stride_[c.axis]);
+      double t = stage == 2 ? t_in_[i] : t_out_[i];
+      if (stage == 0) t += t_out_[i] >= t_in_[i] ? 1e-3 : -1e-3;
       Vec3 p = p0;
-      p[c.axis] = p0[c.axis] + static_cast<double>((*end)[retry_[k]]) * (p1[c.axis] - p0[c.axis]);
+      p[c.axis] = p0[c.axis] + t * (p1[c.axis] - p0[c.axis]);
       xs_[k] = static_cast<float>(p.x), ys_[k] = static_cast<float>(p.y), zs_[k] = static_cast<float>(p.z);
     }
     grad_.eval(tape, xs_.data(), ys_.data(), zs_.data(), grads_.data(), m);

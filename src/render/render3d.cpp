@@ -111,10 +111,10 @@ struct Refiner {
     grad.eval(t, us.data(), vs.data(), ws.data(), grads.data(), n);
     for (std::size_t i = 0; i < n; ++i) normals[i] = unit_normal(grads[i]);
     // Where the point lands exactly on the surface, an exact distance such as sqrt(d^2) has
-    // gradient 0 by convention (sqrt'(0) = 0): take the normal from the bracket's ends instead,
-    // first the outside one (else flat surfaces come out striped where the interpolation hits
-    // 0 exactly).
-    for (const std::vector<float>* end : {&a, &b}) {
+    // gradient 0 by convention (sqrt'(0) = 0): take the normal just outside the surface (a
+    // thousandth of the bracket beyond its outside end), else at the outside end (else flat
+    // surfaces come out striped where the interpolation hits 0 exactly), else at the inside end.
+    for (int stage = 0; stage < 3; ++stage) {
       retry.clear();
       for (std::size_t i = 0; i < n; ++i)
         if (!usable(grads[i])) retry.push_back(static_cast<std::uint32_t>(i));
@@ -123,7 +123,9 @@ struct Refiner {
       for (auto* v : {&ru, &rv, &rw}) v->resize(m);
       rgrads.resize(m);
       for (std::size_t k = 0; k < m; ++k) {
-        ru[k] = us[retry[k]], rv[k] = vs[retry[k]], rw[k] = (*end)[retry[k]];
+        const std::uint32_t i = retry[k];
+        ru[k] = us[i], rv[k] = vs[i];
+        rw[k] = stage == 0 ? a[i] + 1e-3f * (a[i] - b[i]) : stage == 1 ? a[i] : b[i];
       }
       grad.eval(t, ru.data(), rv.data(), rw.data(), rgrads.data(), m);
       for (std::size_t k = 0; k < m; ++k)

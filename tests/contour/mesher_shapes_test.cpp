@@ -9,7 +9,9 @@
 #include <cmath>
 
 #include "contour_test_util.hpp"
+#include "frep/convert/convert.hpp"
 #include "frep/expr/expr.hpp"
+#include "mesh_test_util.hpp"
 
 namespace frep {
 namespace {
@@ -64,6 +66,36 @@ TEST(MeshShapes, BoxKeepsCornersAndFlatFaces) {
       off_plane += !flat;
     }
     EXPECT_EQ(off_plane, 0) << "triangles not in a face plane (chamfered edges)";
+  }
+}
+
+// The same with a converted box (an exact distance, whose gradient is 0 exactly on its surface),
+// also with its faces on grid planes: grid corners then lie on the surface and are their own
+// crossings, whose normals must come from just outside (before, from the inside corner a cell
+// away, which is nearest to another face there: the corners came out cut by a cell). Crossings
+// are found to the root tolerance (1e-4 of a cell) rather than exactly (the field is not linear
+// along edges near the box's edges), so corners are within 2e-4 of a cell.
+TEST(MeshShapes, ConvertedBoxKeepsCornersAndFlatFaces) {
+  for (const auto& [lo, hi] : {std::pair{Vec3{-0.5, -0.5, -0.5}, Vec3{0.5, 0.5, 0.5}},
+                              std::pair{Vec3{-0.61, -0.47, -0.33}, Vec3{0.53, 0.71, 0.59}}}) {
+    const ConvertResult c = convert_mesh(test::make_box(lo, hi));
+    const Tape t = Tape::compile(*c.model.graph, c.model.root);
+    for (int res : {16, 32}) {
+      SCOPED_TRACE("box " + std::to_string(lo.x) + ", resolution " + std::to_string(res));
+      MeshOptions o = options(res);
+      o.bounds = Box3{};
+      o.known_bounds = c.model.info.bounds;  // one margin cell: the faces of the unit box on grid planes
+      o.lipschitz = 1;
+      MeshStats st;
+      const TriMesh m = mesh_solid(t, o, "converted box", &st);
+      for (const Vec3& v : m.vertices) ASSERT_LT(std::fabs(box_distance(v, lo, hi)), 1e-5) << v.x << " " << v.y << " " << v.z;
+      for (int k = 0; k < 8; ++k) {
+        const Vec3 corner{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
+        double best = 1e9;
+        for (const Vec3& v : m.vertices) best = std::min(best, length(v - corner));
+        EXPECT_LT(best, 2e-4 * st.cell_size) << "corner " << k;
+      }
+    }
   }
 }
 
