@@ -54,7 +54,7 @@ HWY_INLINE void Lanes(F f) {
 // `folds` (grown as needed). Registers hold [register][lane] bounds.
 // Returns the number of mins.
 std::size_t EvalBoxes(const RegInstr* code, std::size_t n, float* lo, float* hi, std::uint16_t* left,
-                      std::uint16_t* right, std::uint16_t* fold, float* mins, std::vector<float>& folds,
+                      std::uint16_t* right, std::uint16_t* fold, float* mins, LargeVector<float>& folds,
                       std::uint32_t fold_lanes, const float* box) {
   const float* const mins_begin = mins;
   const D d;
@@ -221,27 +221,9 @@ HWY_AFTER_NAMESPACE();
 namespace frep {
 HWY_EXPORT(EvalBoxes);
 
-namespace {
-
-// An aligned float buffer that only grows.
-void reserve(float*& p, std::size_t& capacity, std::size_t n) {
-  if (n <= capacity) return;
-  std::free(p);
-  p = static_cast<float*>(std::aligned_alloc(64, (n * sizeof(float) + 63) / 64 * 64));
-  if (!p) {
-    capacity = 0;
-    throw std::bad_alloc();
-  }
-  capacity = n;
-}
-
-}  // namespace
 
 IntervalBatchEvaluator::IntervalBatchEvaluator() = default;
-IntervalBatchEvaluator::~IntervalBatchEvaluator() {
-  std::free(regs_);
-  std::free(mins_);
-}
+IntervalBatchEvaluator::~IntervalBatchEvaluator() = default;
 
 void IntervalBatchEvaluator::eval(const Tape& tape, const Interval* x, const Interval* y, const Interval* z,
                                   int count, int simplified) {
@@ -250,14 +232,15 @@ void IntervalBatchEvaluator::eval(const Tape& tape, const Interval* x, const Int
   FREP_ASSERT(tape.size() > 0, "empty tape");
   FREP_ASSERT(!tape.code().empty(), "interval batches run register code");
   const std::size_t regs = std::max<std::size_t>(tape.num_registers(), 1);
-  reserve(regs_, regs_capacity_, 2 * regs * kLanes);
-  float* const lo = regs_;
-  float* const hi = regs_ + regs * kLanes;
+  grow_scratch(regs_, 2 * regs * kLanes);
+  float* const lo = regs_.data();
+  float* const hi = lo + regs * kLanes;
   const std::size_t n = tape.code().size();
-  left_.resize(n);
-  right_.resize(n);
-  fold_.resize(n);
-  reserve(mins_, mins_capacity_, static_cast<std::size_t>(tape.choice_count()) * 4 * kLanes);
+  grow_scratch(left_, n);
+  grow_scratch(right_, n);
+  grow_scratch(fold_, n);
+  code_size_ = n;
+  grow_scratch(mins_, static_cast<std::size_t>(tape.choice_count()) * 4 * kLanes);
   folds_.clear();
   size_ = tape.size();
   simplified_ = simplified;
@@ -273,7 +256,7 @@ void IntervalBatchEvaluator::eval(const Tape& tape, const Interval* x, const Int
     box[5 * kLanes + k] = z[s].hi;
   }
   mins_count_ = HWY_DYNAMIC_DISPATCH(EvalBoxes)(tape.code().data(), n, lo, hi, left_.data(), right_.data(),
-                                               fold_.data(), mins_, folds_, (1u << simplified) - 1, box);
+                                               fold_.data(), mins_.data(), folds_, (1u << simplified) - 1, box);
   const std::size_t root = static_cast<std::size_t>(tape.root_register()) * kLanes;
   std::copy(lo + root, lo + root + kLanes, result_lo_);
   std::copy(hi + root, hi + root + kLanes, result_hi_);
@@ -282,7 +265,7 @@ void IntervalBatchEvaluator::eval(const Tape& tape, const Interval* x, const Int
 std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t lanes, Tape* outs, double max_kept,
                                               bool leaves) {
   const std::size_t n = size_;
-  FREP_ASSERT(tape.size() == n && tape.code().size() == left_.size(), "simplify needs the tape of the last eval");
+  FREP_ASSERT(tape.size() == n && tape.code().size() == code_size_, "simplify needs the tape of the last eval");
   lanes &= (1u << simplified_) - 1;
   if (!lanes) return 0;
   const SsaInstr* in = tape.ssa().data();
@@ -292,7 +275,8 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
   // are only read at min and max, so they are kept per choice (the choice's ordinal, from the
   // tape), as are the sides a choice keeps. Register code has one instruction per SSA
   // instruction that is not a constant, in the same order: `kc` walks it alongside.
-  live_.assign(n, 0);
+  grow_scratch(live_, n);
+  std::fill(live_.begin(), live_.begin() + static_cast<std::ptrdiff_t>(n), std::uint16_t{0});
   grow_scratch(fin_, n);
   grow_scratch(sides_, 2 * choices);
   grow_scratch(caps_, choices * kLanes);
@@ -331,7 +315,7 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
     }
   };
   std::size_t kc = tape.code().size();
-  const float* mins = mins_ + mins_count_ * 4 * kLanes;
+  const float* mins = mins_.data() + mins_count_ * 4 * kLanes;
   for (std::size_t i = n; i-- > 0;) {
     const SsaInstr& ins = in[i];
     const std::uint32_t m = live[i];

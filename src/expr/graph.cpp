@@ -1,6 +1,5 @@
 #include "frep/expr/graph.hpp"
 
-#include <sys/mman.h>
 
 #include <bit>
 #include <cstdlib>
@@ -37,24 +36,8 @@ bool is_bits(float v, float want) {
 
 namespace {
 constexpr std::uint64_t kEmptySlot = ~std::uint64_t(0);
-constexpr std::size_t kHugePage = std::size_t(2) << 20;
 }  // namespace
 
-namespace detail {
-void* allocate_large(std::size_t bytes) {
-  if (bytes < kHugePage) {
-    void* p = std::malloc(bytes ? bytes : 1);
-    if (!p) throw std::bad_alloc();
-    return p;
-  }
-  const std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
-  void* p = std::aligned_alloc(kHugePage, rounded);
-  if (!p) throw std::bad_alloc();
-  ::madvise(p, rounded, MADV_HUGEPAGE);  // a hint: failure only costs speed
-  return p;
-}
-void deallocate_large(void* p, std::size_t) noexcept { std::free(p); }
-}  // namespace detail
 
 namespace {
 // A node's window in `near_` starts at slot kSpacing * (its newest argument's id) and is kWindow

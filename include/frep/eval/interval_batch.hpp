@@ -10,6 +10,7 @@
 
 #include "frep/eval/interval.hpp"
 #include "frep/eval/tape.hpp"
+#include "frep/util/large_allocator.hpp"
 
 namespace frep {
 
@@ -45,19 +46,19 @@ class IntervalBatchEvaluator {
   // what simplification needs later is recorded on the way (choices, folded values, the
   // arguments of every min for caps).
   std::size_t size_ = 0;                           // SSA instructions of the last evaluated tape
+  std::size_t code_size_ = 0;                      // and its register instructions
   int simplified_ = 0;                             // boxes of the last eval that simplify may take
-  float* regs_ = nullptr;                          // [register][lane] lower bounds, then upper bounds
-  std::size_t regs_capacity_ = 0;                  // floats
-  std::vector<std::uint16_t> left_, right_, fold_;  // per register instruction: lane bit masks
-  float* mins_ = nullptr;                          // per min: its arguments' bounds (alo, ahi, blo, bhi x 16 lanes)
-  std::size_t mins_capacity_ = 0, mins_count_ = 0;
-  std::vector<float> folds_;                       // per instruction with folded lanes: its 16 values
+  LargeVector<float> regs_;                        // [register][lane] lower bounds, then upper bounds
+  LargeVector<std::uint16_t> left_, right_, fold_;  // per register instruction: lane bit masks
+  LargeVector<float> mins_;                        // per min: its arguments' bounds (alo, ahi, blo, bhi x 16 lanes)
+  std::size_t mins_count_ = 0;
+  LargeVector<float> folds_;                       // per instruction with folded lanes: its 16 values
   float result_lo_[kLanes] = {}, result_hi_[kLanes] = {};
   // Scratch for simplify.
-  std::vector<std::uint16_t> live_, fin_;  // per SSA instruction: boxes needing it, boxes where it has a cap
-  std::vector<std::uint16_t> sides_;       // per choice: boxes keeping only a, only b
-  std::vector<float> caps_;                // per choice and box: its cap
-  std::vector<std::uint32_t> remap_;       // per SSA instruction and box built: its index in that box's tape
+  LargeVector<std::uint16_t> live_, fin_;  // per SSA instruction: boxes needing it, boxes where it has a cap
+  LargeVector<std::uint16_t> sides_;       // per choice: boxes keeping only a, only b
+  LargeVector<float> caps_;                // per choice and box: its cap
+  LargeVector<std::uint32_t> remap_;       // per SSA instruction and box built: its index in that box's tape
 };
 
 }  // namespace frep

@@ -9,6 +9,7 @@
 
 #include "frep/eval/interval.hpp"
 #include "frep/expr/graph.hpp"
+#include "frep/util/large_allocator.hpp"
 
 namespace frep {
 
@@ -81,15 +82,15 @@ class Tape {
 
   // Buffers only grow (their size is a high-water mark), so reusing a tape as the output of
   // simplification again and again neither allocates nor re-initializes memory.
-  std::vector<SsaInstr> ssa_;
-  std::vector<RegInstr> code_;
+  LargeVector<SsaInstr> ssa_;
+  LargeVector<RegInstr> code_;
   std::size_t ssa_size_ = 0;
   std::size_t code_size_ = 0;
   std::uint32_t num_regs_ = 0;
   std::uint32_t root_reg_ = 0;
   std::uint32_t choices_ = 0;
   std::uint8_t vars_ = 0;
-  std::vector<std::uint32_t> remap_;  // scratch for simplification into this tape
+  LargeVector<std::uint32_t> remap_;  // scratch for simplification into this tape
   std::vector<std::uint8_t> state_;   // scratch for simplification into this tape
   std::vector<float> caps_;           // scratch for simplification into this tape
 };

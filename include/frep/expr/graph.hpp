@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "frep/expr/opcode.hpp"
+#include "frep/util/large_allocator.hpp"
 
 namespace frep {
 
@@ -24,24 +25,6 @@ static_assert(sizeof(Node) == 16, "docs/engine.md states 16 bytes per node");
 
 class Expr;
 
-namespace detail {
-// An allocator for the graph's big arrays: blocks of 2 MiB and more are aligned to 2 MiB and
-// marked for transparent huge pages, since hash-consing reads them at random (a graph of millions
-// of nodes would otherwise spend much of its time in TLB misses).
-void* allocate_large(std::size_t bytes);
-void deallocate_large(void* p, std::size_t bytes) noexcept;
-template <class T>
-struct LargeAllocator {
-  using value_type = T;
-  LargeAllocator() = default;
-  template <class U>
-  LargeAllocator(const LargeAllocator<U>&) {}
-  T* allocate(std::size_t n) { return static_cast<T*>(allocate_large(n * sizeof(T))); }
-  void deallocate(T* p, std::size_t n) noexcept { deallocate_large(p, n * sizeof(T)); }
-  template <class U>
-  bool operator==(const LargeAllocator<U>&) const { return true; }
-};
-}  // namespace detail
 
 // Owns every node. Node ids are indices, and a node's arguments always have smaller ids, so the
 // arena is already in topological order. Memory: 16 bytes per node, plus two hash indexes of
@@ -82,7 +65,7 @@ class Graph {
   Expr expr(NodeId id);
 
  private:
-  using Index = std::vector<std::uint64_t, detail::LargeAllocator<std::uint64_t>>;
+  using Index = std::vector<std::uint64_t, LargeAllocator<std::uint64_t>>;
   NodeId intern(const Node& n);
   // Rebuilds both indexes with room for `capacity` nodes and `spread_slots` (a power of two)
   // slots for the rest.
@@ -91,7 +74,7 @@ class Graph {
   bool place_near(const Node& n, std::uint64_t entry);
   void place_spread(std::uint64_t hash, std::uint64_t entry);
 
-  std::vector<Node, detail::LargeAllocator<Node>> nodes_;
+  std::vector<Node, LargeAllocator<Node>> nodes_;
   // Slots hold the hash's upper half << 32 | id; all ones is empty. A node with arguments lives
   // within a few slots of slot (its newest argument's id) in `near_`, unless that window is
   // full: graphs are built bottom up, so that memory is usually in cache, where a hashed slot
