@@ -145,7 +145,8 @@ void register_render(CLI::App& app) {
     const Tape tape = Tape::compile(*m.graph, m.root);
     // Without --bounds, 3D views and slices show the box the input says holds its inside (a mesh,
     // converted here or by frep convert), grown by 5% of its longest side so that nothing is cut.
-    if (!bounds->count() && !m.info.bounds.empty()) {
+    const bool framed = !bounds->count() && !m.info.bounds.empty();
+    if (framed) {
       const Vec3 size = m.info.bounds.size();
       box = m.info.bounds.inflated(0.05 * std::max({size.x, size.y, size.z}));
       for (int i = 0; i < 3; ++i)
@@ -153,41 +154,47 @@ void register_render(CLI::App& app) {
     }
     const auto t0 = std::chrono::steady_clock::now();
     Image img;
-    if (three_d->count()) {
-      Render3DOptions o;
-      o.size = a->opt.size;
-      o.threads = a->opt.threads;
-      o.bounds = box;
-      o.depth_steps = a->depth_steps;
-      o.lipschitz = lipschitz_of(m, a->lipschitz);
-      if (!a->tiles.empty()) o.tiles = a->tiles;
-      parse_view_direction(a->view, o.view);
-      o.z_up = a->up == "z";
-      if (a->rotate.size() == 2) {
-        o.yaw = a->rotate[0];
-        o.pitch = a->rotate[1];
-        if (!std::isfinite(o.yaw) || !std::isfinite(o.pitch))
-          throw CLI::ValidationError("--rotate", "the angles must be finite numbers (degrees)");
+    try {
+      if (three_d->count()) {
+        Render3DOptions o;
+        o.size = a->opt.size;
+        o.threads = a->opt.threads;
+        o.bounds = box;
+        o.depth_steps = a->depth_steps;
+        o.lipschitz = lipschitz_of(m, a->lipschitz);
+        if (!a->tiles.empty()) o.tiles = a->tiles;
+        parse_view_direction(a->view, o.view);
+        o.z_up = a->up == "z";
+        if (a->rotate.size() == 2) {
+          o.yaw = a->rotate[0];
+          o.pitch = a->rotate[1];
+          if (!std::isfinite(o.yaw) || !std::isfinite(o.pitch))
+            throw CLI::ValidationError("--rotate", "the angles must be finite numbers (degrees)");
+        }
+        ShadeOptions so;
+        so.mode = a->mode == "depth" ? ShadeMode::Depth : a->mode == "normals" ? ShadeMode::Normals : ShadeMode::Shaded;
+        so.ambient_occlusion = a->ao;
+        so.threads = a->opt.threads;
+        img = shade(render3d(tape, o), so);
+      } else if (slice->count()) {
+        SliceOptions o;
+        parse_slice(a->slice, o.axis, o.offset);
+        o.size = a->opt.size;
+        o.threads = a->opt.threads;
+        o.bounds = box;
+        o.contour = contour->count() ? a->contour : 0;
+        if (!a->tiles.empty()) o.tiles = a->tiles;
+        img = render_slice(tape, o);
+      } else {
+        RenderOptions o = a->opt;
+        if (!a->tiles.empty()) o.tiles = a->tiles;
+        o.lipschitz = lipschitz_of(m, a->lipschitz);
+        img = render2d(tape, o);
       }
-      ShadeOptions so;
-      so.mode = a->mode == "depth" ? ShadeMode::Depth : a->mode == "normals" ? ShadeMode::Normals : ShadeMode::Shaded;
-      so.ambient_occlusion = a->ao;
-      so.threads = a->opt.threads;
-      img = shade(render3d(tape, o), so);
-    } else if (slice->count()) {
-      SliceOptions o;
-      parse_slice(a->slice, o.axis, o.offset);
-      o.size = a->opt.size;
-      o.threads = a->opt.threads;
-      o.bounds = box;
-      o.contour = contour->count() ? a->contour : 0;
-      if (!a->tiles.empty()) o.tiles = a->tiles;
-      img = render_slice(tape, o);
-    } else {
-      RenderOptions o = a->opt;
-      if (!a->tiles.empty()) o.tiles = a->tiles;
-      o.lipschitz = lipschitz_of(m, a->lipschitz);
-      img = render2d(tape, o);
+    } catch (const InputError& e) {
+      // Name the input the picture is of (and where its region came from).
+      if (!e.file().empty()) throw;
+      throw InputError(a->file, 0, e.detail() + (framed ? " (the region shown is the box the input carries)" : ""));
     }
     const auto t1 = std::chrono::steady_clock::now();
     save_image(a->output, img);

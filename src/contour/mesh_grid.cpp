@@ -33,7 +33,10 @@ MeshGrid make_grid(const Box3& region, double h, int margin) {
     // Corners must be distinct in f32, with room for crossings between them.
     for (int i = 0; i < n; ++i) {
       const float a0 = c[static_cast<std::size_t>(i)], a1 = c[static_cast<std::size_t>(i) + 1];
-      if (!std::isfinite(a0) || !std::isfinite(a1) || !(a1 > a0) || (a1 - a0) < 64 * (std::nextafter(a0, INFINITY) - a0)) {
+      if (!std::isfinite(a0) || !std::isfinite(a1))
+        throw InputError("", 0, std::string("the region to mesh reaches beyond 32-bit floats along ") + "xyz"[a] +
+                                    ": give smaller --bounds");
+      if (!(a1 > a0) || (a1 - a0) < 64 * (std::nextafter(a0, INFINITY) - a0)) {
         char msg[300];
         std::snprintf(msg, sizeof msg,
                       "cells of %g at coordinates near %g are too fine for 32-bit floats: use a larger cell",

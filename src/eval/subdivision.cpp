@@ -1,6 +1,7 @@
 // The non-template part of the subdivision driver: options checks and per-worker scratch.
 #include "frep/eval/subdivision.hpp"
 
+#include <cmath>
 #include <string>
 
 namespace frep {
@@ -16,5 +17,13 @@ Subdivider::Subdivider(SubdivisionOptions options) : options_(std::move(options)
 }
 
 Subdivider::~Subdivider() = default;
+
+void SampleGrid::check(const char* what) const {
+  for (int a = 0; a < 3; ++a)
+    for (float c : coords[static_cast<std::size_t>(a)])
+      if (!std::isfinite(c))
+        throw InputError("", 0, std::string("the ") + what + " reaches beyond 32-bit floats along " + "xyz"[a] +
+                                    ": give smaller --bounds");
+}
 
 }  // namespace frep

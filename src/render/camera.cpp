@@ -122,7 +122,8 @@ std::vector<float> Camera::w_samples() const { return linspace(half_w, -half_w, 
 
 std::vector<float> Camera::centers(const std::vector<float>& edges) {
   std::vector<float> c(edges.size() > 0 ? edges.size() - 1 : 0);
-  for (std::size_t i = 0; i < c.size(); ++i) c[i] = 0.5f * (edges[i] + edges[i + 1]);
+  // In double: the float sum of two edges near the float range's end overflows.
+  for (std::size_t i = 0; i < c.size(); ++i) c[i] = static_cast<float>(0.5 * (static_cast<double>(edges[i]) + edges[i + 1]));
   return c;
 }
 

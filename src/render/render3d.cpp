@@ -211,6 +211,7 @@ DepthMap Renderer3D::render(const Tape& model) {
   grid.coords[0] = cam.u_edges();
   grid.coords[1] = cam.v_edges();
   grid.coords[2] = cam.w_samples();  // nearest first: the driver visits boxes in index order
+  grid.check("view volume");
   st.uc = Camera::centers(grid.coords[0]);
   st.vc = Camera::centers(grid.coords[1]);
   st.ws = grid.coords[2];

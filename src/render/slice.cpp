@@ -94,6 +94,7 @@ SliceField SliceRenderer::field(const Tape& tape) {
   grid.coords[o.axis] = {o.offset, o.offset};
   grid.coords[ra] = std::move(right_edges);
   grid.coords[ua] = std::move(up_edges);
+  grid.check("slice");
   struct Visitor {
     SliceRenderer& r;
     SliceField& f;

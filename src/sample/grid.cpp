@@ -110,6 +110,7 @@ std::vector<float> sample_grid(const Tape& tape, const GridSpec& grid, const Exp
   std::vector<float> out(grid.size());
   SampleGrid sg;
   sg.coords = std::move(coords);
+  sg.check("grid");
   // The subdivision driver without a breadth-first frontier: a sampler settles no box, so a
   // frontier would keep a simplified tape for every box of its levels (for a converted mesh of
   // millions of instructions, more than 14 GB at 64^3); this way each worker keeps one group of

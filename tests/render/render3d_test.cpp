@@ -358,6 +358,24 @@ TEST(Render3D, EmptyFullAndNanFields) {
   }
 }
 
+// Regions near the end of the float range: pixel centres between edges near FLT_MAX used to
+// overflow to infinity (a pixel with an inside sample and no hit: an internal error); a view
+// volume beyond floats is an InputError, as are grids and meshes there.
+TEST(Render3D, RegionsNearTheFloatRange) {
+  const double big = 3.4e38;
+  const ConvertResult r = convert_mesh(test::make_box({-big, -big, -big}, {big, big, -100}));
+  const Tape t = Tape::compile(*r.model.graph, r.model.root);
+  Render3DOptions o = options(24, ViewDirection::Front);
+  o.bounds = Box3{{-3e38, -3e38, -3e38}, {3e38, 3e38, 3e38}};
+  const DepthMap map = render3d(t, o);
+  EXPECT_EQ(first_difference(map, render3d_brute_force(t, o), true), "");
+  int hits = 0;
+  for (float d : map.depth) hits += !std::isnan(d);
+  EXPECT_GT(hits, 0);
+  o.view = ViewDirection::Iso;  // its view volume's diagonal is beyond floats
+  EXPECT_THROW(render3d(t, o), InputError);
+}
+
 TEST(Render3D, InvalidOptionsThrow) {
   Graph g;
   const Tape t = Tape::compile(g, g.var_x());

@@ -48,6 +48,9 @@ struct SampleGrid {
     return cells ? std::max(0, n - 1) : n;
   }
   IndexBox whole() const { return {{0, 0, 0}, {count(0), count(1), count(2)}}; }
+  // Throws InputError (naming `what`, the region's use) unless every coordinate is a finite
+  // float: a region beyond 32-bit floats would be evaluated at infinities.
+  void check(const char* what) const;
   // The coordinate range a box covers along an axis.
   Interval range(int axis, int lo, int hi) const {
     const float a = coords[axis][lo], b = coords[axis][cells ? hi : hi - 1];
