@@ -113,8 +113,8 @@ void register_render(CLI::App& app) {
                     ->check(CLI::Range(0, 65536));
   auto* bounds = cmd->add_option("--bounds", a->bounds,
                                  "3D and slices: the region shown, x0,y0,z0,x1,y1,z1 (default: the box the input carries, "
-                                 "a mesh's bounding box, grown by 5%; else -1,-1,-1,1,1,1); 3D views cut the shape at "
-                                 "its faces")
+                                 "a mesh's bounding box, grown by 5% of its longest side, 20% for slices; else "
+                                 "-1,-1,-1,1,1,1); 3D views cut the shape at its faces")
                      ->delimiter(',')
                      ->expected(6);
   auto* contour = cmd->add_option("--contour", a->contour,
@@ -144,11 +144,12 @@ void register_render(CLI::App& app) {
     const Model m = load_input(a->file);
     const Tape tape = Tape::compile(*m.graph, m.root);
     // Without --bounds, 3D views and slices show the box the input says holds its inside (a mesh,
-    // converted here or by frep convert), grown by 5% of its longest side so that nothing is cut.
+    // converted here or by frep convert), grown by 5% of its longest side so that nothing is cut
+    // (by 20% for slices, which show the field around the shape too).
     const bool framed = !bounds->count() && !m.info.bounds.empty();
     if (framed) {
       const Vec3 size = m.info.bounds.size();
-      box = m.info.bounds.inflated(0.05 * std::max({size.x, size.y, size.z}));
+      box = m.info.bounds.inflated((slice->count() ? 0.2 : 0.05) * std::max({size.x, size.y, size.z}));
       for (int i = 0; i < 3; ++i)
         if (!(box.lo[i] < box.hi[i])) box.lo[i] -= 1, box.hi[i] += 1;  // flat: give it some depth
     }

@@ -16,6 +16,8 @@ trap 'rm -rf "$tmp"' EXIT
 # The demo mesh (examples/bracket.obj), converted on the way in: a 3D view and its distance slice.
 frep render examples/bracket.obj --3d --up z --view iso --ao --size 320 -o $out/bracket_3d.png
 frep render examples/bracket.obj --slice z=0 --size 320 -o $out/bracket_slice.png
+# A big converted mesh (86,482 triangles, 6.6M nodes), framed by its own bounding box.
+frep render $data/meshes/armadillo_libigl.obj --3d --view iso --ao --size 320 -o $out/armadillo_iso.png
 # Fidget's bear head, seen from (-1, 1, 1) so that the face shows, framed by its bounds.
 bear="$data/vm/bear.vm --3d --view iso --rotate -90,0 --bounds -0.7,-0.65,-0.7,1,0.85,0.65"
 frep render $bear --size 300 --ao -o $out/bear_shaded.png
