@@ -243,6 +243,20 @@ TEST(ConvertCli, ConvertsRefusesAndWritesAtomically) {
   EXPECT_EQ(run(std::string(FREP_CLI_PATH) + " render " + out + " --3d --size 24 --lipschitz 0 -o " + png, &text), 0) << text;
   EXPECT_EQ(run(std::string(FREP_CLI_PATH) + " render " + out + " --3d --size 24 --lipschitz -1 -o " + png, &text), 2) << text;
   EXPECT_NE(text.find("Lipschitz"), std::string::npos) << text;
+  // The file's box frames pictures and meshes: a part in millimetres far from [-1,1]^3.
+  const std::string part = dir + "/cli_part.stl", part_frep = dir + "/cli_part.frep";
+  write_mesh(part, test::make_box({100, 200, 300}, {300, 300, 400}));
+  ASSERT_EQ(run(std::string(FREP_CLI_PATH) + " convert " + part + " -o " + part_frep, &text), 0) << text;
+  EXPECT_EQ(run(std::string(FREP_CLI_PATH) + " info " + part_frep, &text), 0) << text;
+  EXPECT_NE(text.find("bounds: 100, 200, 300 .. 300, 300, 400"), std::string::npos) << text;
+  EXPECT_EQ(run(std::string(FREP_CLI_PATH) + " render " + part_frep + " --3d --view front --size 64 -o " + png, &text), 0) << text;
+  int w = 0, h = 0;
+  ASSERT_EQ(std::sscanf(text.c_str() + text.find('('), "(%dx%d", &w, &h), 2) << text;
+  EXPECT_EQ(w, 64);  // the front view shows x (200 + 2 * 10) across and y (100 + 2 * 10) up
+  EXPECT_NEAR(h, 64 * 120 / 220, 2) << text;
+  const std::string part_stl = dir + "/cli_part_remeshed.stl";
+  EXPECT_EQ(run(std::string(FREP_CLI_PATH) + " mesh " + part_frep + " -r 16 -o " + part_stl, &text), 0) << text;
+  EXPECT_NE(text.find("known from the input"), std::string::npos) << text;
   // A refused mesh: exit 1, a message naming the file, and no output file.
   TriMesh open = test::make_box();
   open.triangles.pop_back(), open.origins.pop_back();
