@@ -135,6 +135,7 @@ void register_mesh(CLI::App& app) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (shown) std::fprintf(stderr, "\r%40s\r", "");
     const MeshStats& st = mesher.stats();
+    warn_unresolved(st.unresolved);
     if (!a->quiet) {
       if (st.bounds_known)
         fmt::print("bounds: {} .. {} (known from the input: the mesh's bounding box)\n", fmt_point(st.found.lo),

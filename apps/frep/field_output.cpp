@@ -121,6 +121,7 @@ void write_field_output(const std::string& input, const std::string& path, const
                      "the result is empty: no sample of the grid is inside it (the operation removed everything, "
                      "or it is thinner than a cell: try a finer --resolution)");
   write_mesh(path, mesh);
+  warn_unresolved(st.unresolved);
   if (!o.quiet) {
     fmt::print("grid: {} x {} x {} cells of {:.6g} over {} .. {}\n", st.cells[0], st.cells[1], st.cells[2],
                st.cell_size, fmt_point(st.bounds.lo), fmt_point(st.bounds.hi));

@@ -16,6 +16,14 @@ Model load_input(const std::string& path, ConvertStats* stats) {
   return m;
 }
 
+void warn_unresolved(std::size_t unresolved) {
+  if (unresolved == 0) return;
+  fmt::print(stderr,
+             "frep: warning: {} vertices could not be untangled: the mesh is closed and manifold, but its triangles "
+             "cross there (frep check shows where); another --resolution usually avoids it\n",
+             unresolved);
+}
+
 void add_lipschitz_option(CLI::App* cmd, double& value) {
   value = -1;
   cmd->add_option("--lipschitz", value,

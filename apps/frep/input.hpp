@@ -20,6 +20,10 @@ void add_lipschitz_option(CLI::App* cmd, double& value);
 // a file frep convert wrote; 0, unknown, for other files).
 inline double lipschitz_of(const Model& m, double option) { return option >= 0 ? option : m.info.lipschitz; }
 
+// A warning on stderr when dual contouring could not untangle some vertices (MeshStats::unresolved):
+// the mesh is still closed and manifold, but its triangles cross there.
+void warn_unresolved(std::size_t unresolved);
+
 // Help text for such an input argument.
 inline constexpr const char* kFieldInputHelp =
     "Expression (.vm, .rhai, .frep) or closed mesh (.stl, .obj, .ply, .off; converted first, as by frep convert)";
