@@ -150,52 +150,46 @@ void Tape::allocate_registers() {
     root_reg_ = 0;
     return;
   }
-  // Last use of every value (the root is never freed). The scratch is the thread's, not the
-  // tape's: many tapes are allocated, few at a time, and tapes only keep what they run.
-  thread_local std::vector<std::uint32_t> reg_scratch, last_use_scratch, free_regs;
+  // The builder wrote one register per SSA value (out, a and b are SSA indices); this renames
+  // them in place in one backward pass: a value takes a register where it is last used (the
+  // first use met going backward) and gives it back where it is defined. An instruction's
+  // result may share a register with an argument (evaluators read arguments before writing,
+  // lane by lane). The scratch is the thread's, not the tape's: many tapes are allocated, few
+  // at a time, and tapes only keep what they run.
+  constexpr std::uint32_t kUnassigned = UINT32_MAX;
+  thread_local std::vector<std::uint32_t> reg_scratch, free_regs;
   grow_scratch(reg_scratch, m);
-  grow_scratch(last_use_scratch, m);
   std::uint32_t* reg = reg_scratch.data();
-  std::uint32_t* last_use = last_use_scratch.data();
-  std::fill(last_use, last_use + m, 0u);
+  std::fill(reg, reg + m, kUnassigned);
   free_regs.clear();
-  for (std::size_t i = 0; i < m; ++i) {
-    const int ar = op_arity(ssa_[i].op);
-    if (ar >= 1) last_use[ssa_[i].a] = static_cast<std::uint32_t>(i);
-    if (ar >= 2) last_use[ssa_[i].b] = static_cast<std::uint32_t>(i);
-  }
-  last_use[m - 1] = static_cast<std::uint32_t>(m);
-  // Linear scan: a register is free again after its value's last use, and the result may reuse
-  // an argument's register (evaluators read arguments before writing, lane by lane).
-  std::size_t k = 0;
-  num_regs_ = 0;
-  for (std::size_t i = 0; i < m; ++i) {
-    const SsaInstr& ins = ssa_[i];
-    if (ins.op == Op::Const) continue;  // an immediate of its users
-    RegInstr r;
-    r.op = ins.op;
-    const int ar = op_arity(ins.op);
-    for (int j = 0; j < ar; ++j) {
-      const std::uint32_t arg = j == 0 ? ins.a : ins.b;
-      if (ssa_[arg].op == Op::Const) {
-        FREP_ASSERT(!r.mode, "two immediate arguments");
-        r.mode |= j == 0 ? RegInstr::kImmA : RegInstr::kImmB;
-        r.imm = ssa_[arg].value;
-        continue;
-      }
-      (j == 0 ? r.a : r.b) = reg[arg];
-      if (last_use[arg] == i && !(j == 1 && ins.b == ins.a)) free_regs.push_back(reg[arg]);
+  std::uint32_t count = 0;
+  const auto take = [&]() -> std::uint32_t {
+    if (free_regs.empty()) return count++;
+    const std::uint32_t r = free_regs.back();
+    free_regs.pop_back();
+    return r;
+  };
+  reg[m - 1] = take();  // the root: live at the end
+  for (std::size_t k = code_size_; k-- > 0;) {
+    RegInstr& r = code_[k];
+    FREP_ASSERT(r.out < m, "register code is not in SSA form");
+    std::uint32_t out = reg[r.out];
+    if (out == kUnassigned) out = take();  // a dead value: any free register
+    free_regs.push_back(out);
+    r.out = out;
+    const int ar = op_arity(r.op);
+    if (ar >= 1 && !(r.mode & RegInstr::kImmA)) {
+      std::uint32_t& ra = reg[r.a];
+      if (ra == kUnassigned) ra = take();
+      r.a = ra;
     }
-    if (free_regs.empty()) {
-      r.out = num_regs_++;
-    } else {
-      r.out = free_regs.back();
-      free_regs.pop_back();
+    if (ar >= 2 && !(r.mode & RegInstr::kImmB)) {
+      std::uint32_t& rb = reg[r.b];
+      if (rb == kUnassigned) rb = take();
+      r.b = rb;
     }
-    reg[i] = r.out;
-    code_[k++] = r;
   }
-  code_size_ = k;
+  num_regs_ = count;
   root_reg_ = reg[m - 1];
 }
 

@@ -3,6 +3,7 @@
 // must stay right when re-simplified while subdividing.
 #include <gtest/gtest.h>
 
+#include "frep/eval/evaluators.hpp"
 #include "frep/eval/interval_batch.hpp"
 #include "frep/expr/expr.hpp"
 #include "frep/io/vm.hpp"
@@ -294,6 +295,32 @@ TEST(Simplify, ProsperoDescentShrinksTheTape) {
     }
     EXPECT_LT(cur.size(), t.size() / 10) << "a 1/128-wide cell of prospero should need a small fraction of the tape";
   }
+}
+
+}  // namespace
+}  // namespace frep
+
+namespace frep {
+namespace {
+
+// Register allocation keeps only live values: a balanced tree over 4096 terms needs registers
+// for one path down the tree, not one per term, and the code still evaluates to the SSA values.
+TEST(Registers, BalancedTreesNeedFewRegisters) {
+  // Built depth first, as frep convert builds its trees: the tape computes a subtree, then the
+  // next, and only the partial results on the path stay live.
+  Graph g;
+  const auto tree = [&](auto&& self, int lo, int hi) -> Expr {
+    if (hi - lo == 1) return square(g.x() - static_cast<float>(lo) * 0.01f) + square(g.y());
+    const int mid = (lo + hi) / 2;
+    const Expr a = self(self, lo, mid);
+    return min(a, self(self, mid, hi));
+  };
+  const std::vector<Expr> level{tree(tree, 0, 4096)};
+  const Tape t = Tape::compile(g, level[0].id());
+  EXPECT_LE(t.num_registers(), 40u);
+  PointEvaluator pe;
+  for (float x : {-1.0f, 3.3f, 20.0f, 41.0f})
+    EXPECT_EQ(pe.eval(t, x, 0.5f, 0), test::eval_ssa<float>(t.ssa(), x, 0.5f, 0.0f)) << x;
 }
 
 }  // namespace

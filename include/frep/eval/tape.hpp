@@ -78,6 +78,7 @@ class Tape {
   class Builder;
   static void rebuild(std::span<const SsaInstr> src, const Interval* values, const Choice* choices, Tape& out,
                       bool registers);
+  // Renames the builder's one-register-per-value code (see tape_builder.hpp) to reuse registers.
   void allocate_registers();
 
   // Buffers only grow (their size is a high-water mark), so reusing a tape as the output of
