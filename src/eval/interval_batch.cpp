@@ -49,10 +49,10 @@ HWY_INLINE void Lanes(F f) {
 }
 
 // Evaluates register code over 16 boxes. Per instruction k: choice and fold bit masks; for each
-// `min`, its arguments' bounds (alo, ahi, blo, bhi, 16 lanes each) appended to `mins` for the
-// caps of simplification; for each instruction with folded lanes, its 16 lower bounds appended to
+// `min` where a lane of `fold_lanes` (the boxes to simplify) keeps both sides, its arguments'
+// bounds (alo, ahi, blo, bhi, 16 lanes each) appended to `mins` for the caps of simplification; for each instruction with folded lanes, its 16 lower bounds appended to
 // `folds` (grown as needed). Registers hold [register][lane] bounds.
-// Returns the number of mins.
+// Returns the number of mins stored.
 std::size_t EvalBoxes(const RegInstr* code, std::size_t n, float* lo, float* hi, std::uint16_t* left,
                       std::uint16_t* right, std::uint16_t* fold, float* mins, LargeVector<float>& folds,
                       std::uint32_t fold_lanes, const float* box) {
@@ -159,19 +159,31 @@ std::size_t EvalBoxes(const RegInstr* code, std::size_t n, float* lo, float* hi,
       case Op::Min:
       case Op::Max: {
         const bool is_min = ins.op == Op::Min;
+        if (is_min) {
+          // Comparisons with NaN are false, so unknown lanes make no choice.
+          Lanes([&](D dd, int j) {
+            const V al = hn::Load(dd, alo + j), ah = hn::Load(dd, ahi + j);
+            const V bl = hn::Load(dd, blo + j), bh = hn::Load(dd, bhi + j);
+            lbits |= Bits(dd, ah < bl) << j;
+            rbits |= Bits(dd, bh < al) << j;
+          });
+          // The arguments' bounds, for caps, where a box to simplify keeps both sides (before
+          // the result may overwrite an argument).
+          if (~(lbits | rbits) & fold_lanes) {
+            Lanes([&](D dd, int j) {
+              hn::Store(hn::Load(dd, alo + j), dd, mins + 0 * L + j);
+              hn::Store(hn::Load(dd, ahi + j), dd, mins + 1 * L + j);
+              hn::Store(hn::Load(dd, blo + j), dd, mins + 2 * L + j);
+              hn::Store(hn::Load(dd, bhi + j), dd, mins + 3 * L + j);
+            });
+            mins += 4 * L;
+          }
+        }
         Lanes([&](D dd, int j) {
           const V al = hn::Load(dd, alo + j), ah = hn::Load(dd, ahi + j);
           const V bl = hn::Load(dd, blo + j), bh = hn::Load(dd, bhi + j);
           const M unknown = hn::Or(hn::Or(hn::IsNaN(al), hn::IsNaN(ah)), hn::Or(hn::IsNaN(bl), hn::IsNaN(bh)));
-          // Comparisons with NaN are false, so unknown lanes make no choice.
           if (is_min) {
-            // The arguments' bounds, for caps (before the result may overwrite an argument).
-            hn::Store(al, dd, mins + 0 * L + j);
-            hn::Store(ah, dd, mins + 1 * L + j);
-            hn::Store(bl, dd, mins + 2 * L + j);
-            hn::Store(bh, dd, mins + 3 * L + j);
-            lbits |= Bits(dd, ah < bl) << j;
-            rbits |= Bits(dd, bh < al) << j;
             store(dd, j, hn::Min(al, bl), hn::Min(ah, bh), unknown);
           } else {
             lbits |= Bits(dd, al > bh) << j;
@@ -179,7 +191,6 @@ std::size_t EvalBoxes(const RegInstr* code, std::size_t n, float* lo, float* hi,
             store(dd, j, hn::Max(al, bl), hn::Max(ah, bh), unknown);
           }
         });
-        if (is_min) mins += 4 * L;
         break;
       }
       default: {
@@ -316,6 +327,7 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
   };
   std::size_t kc = tape.code().size();
   const float* mins = mins_.data() + mins_count_ * 4 * kLanes;
+  const std::uint32_t all_lanes = (1u << simplified_) - 1;
   for (std::size_t i = n; i-- > 0;) {
     const SsaInstr& ins = in[i];
     const std::uint32_t m = live[i];
@@ -324,7 +336,7 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
       continue;
     }
     --kc;
-    if (ins.op == Op::Min) mins -= 4 * kLanes;
+    if (ins.op == Op::Min && (~(left_[kc] | right_[kc]) & all_lanes)) mins -= 4 * kLanes;  // as EvalBoxes stored
     if (!m) continue;
     for (std::uint32_t bits = m; bits; bits &= bits - 1) ++kept[__builtin_ctz(bits)];
     const int ar = op_arity(ins.op);
