@@ -2,6 +2,9 @@
 // instructions with their variables replaced, then (for rotated views) the cut at the bounds.
 #include "view_tape.hpp"
 
+#include <algorithm>
+#include <bit>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -41,17 +44,143 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
 
   const auto src = model.ssa();
   std::vector<std::uint32_t> map(src.size());
-  for (std::size_t i = 0; i < src.size(); ++i) {
-    const SsaInstr& s = src[i];
-    switch (s.op) {
-      case Op::VarX: map[i] = model_var[0]; break;
-      case Op::VarY: map[i] = model_var[1]; break;
-      case Op::VarZ: map[i] = model_var[2]; break;
-      default: {
-        const int ar = op_arity(s.op);
-        map[i] = emit(s.op, ar > 0 ? map[s.a] : 0, ar > 1 ? map[s.b] : 0, s.value);
+  if (cam.axis_aligned) {
+    for (std::size_t i = 0; i < src.size(); ++i) {
+      const SsaInstr& s = src[i];
+      switch (s.op) {
+        case Op::VarX: map[i] = model_var[0]; break;
+        case Op::VarY: map[i] = model_var[1]; break;
+        case Op::VarZ: map[i] = model_var[2]; break;
+        default: {
+          const int ar = op_arity(s.op);
+          map[i] = emit(s.op, ar > 0 ? map[s.a] : 0, ar > 1 ? map[s.b] : 0, s.value);
+        }
       }
     }
+  } else {
+    // Rotated views: every model value that is affine in x, y, z (planes, coordinate
+    // differences, cross products with constant vectors...) is rewritten as one affine form in
+    // u, v, w. Interval arithmetic bounds such a form exactly over a view box, whereas the same
+    // value built from x, y, z sees each of them over the box's axis-aligned hull, and sums them
+    // as if they were independent: up to 3x wider on converted meshes, which pruned far less.
+    struct Affine {
+      double c[4];  // coefficients of u, v, w, then the constant
+    };
+    std::vector<Affine> aff(src.size());
+    std::vector<std::uint8_t> affine(src.size(), 0);
+    std::vector<std::uint8_t> axes(src.size(), 0);  // affine values: bits of the model axes they depend on
+    constexpr std::uint32_t kNotEmitted = UINT32_MAX;
+    std::fill(map.begin(), map.end(), kNotEmitted);
+    const auto emit_affine = [&](const Affine& f) {
+      std::uint32_t sum = 0;
+      bool any = false;
+      for (int k = 0; k < 3; ++k) {
+        const float c = static_cast<float>(f.c[k]);
+        if (c == 0) continue;
+        const std::uint32_t term = c == 1 ? uvw[k] : c == -1 ? emit(Op::Neg, uvw[k]) : emit(Op::Mul, emit(Op::Const, 0, 0, c), uvw[k]);
+        sum = any ? emit(Op::Add, sum, term) : term;
+        any = true;
+      }
+      const float c0 = static_cast<float>(f.c[3]);
+      if (!any) return emit(Op::Const, 0, 0, c0);
+      return c0 == 0 ? sum : emit(Op::Add, sum, emit(Op::Const, 0, 0, c0));
+    };
+    const auto constant = [](const Affine& f) { return f.c[0] == 0 && f.c[1] == 0 && f.c[2] == 0; };
+    // The instruction computing source value j in the view tape. An affine value of one model
+    // axis (such as x - a), or a scaled or shifted affine value, is bounded exactly from its
+    // argument's interval: it is emitted as in the model, sharing the model's instructions.
+    // Only a sum or difference of two varying values that combines axes becomes a u, v, w form.
+    // Iterative: chains of affine values may be as long as the model.
+    std::vector<std::uint32_t> pending;
+    const auto get = [&](std::uint32_t root) -> std::uint32_t {
+      pending.push_back(root);
+      while (!pending.empty()) {
+        const std::uint32_t j = pending.back();
+        if (map[j] != kNotEmitted) {
+          pending.pop_back();
+          continue;
+        }
+        const SsaInstr& s = src[j];
+        const int ar = op_arity(s.op);
+        const bool combines = (s.op == Op::Add || s.op == Op::Sub) && !constant(aff[s.a]) && !constant(aff[s.b]);
+        if (std::popcount(axes[j]) > 1 && combines) {
+          map[j] = emit_affine(aff[j]);
+        } else if (ar == 0) {
+          map[j] = s.op == Op::Const ? emit(Op::Const, 0, 0, s.value) : model_var[static_cast<int>(s.op) - static_cast<int>(Op::VarX)];
+        } else if (map[s.a] == kNotEmitted) {
+          pending.push_back(s.a);
+          continue;
+        } else if (ar > 1 && map[s.b] == kNotEmitted) {
+          pending.push_back(s.b);
+          continue;
+        } else {
+          map[j] = emit(s.op, map[s.a], ar > 1 ? map[s.b] : 0, s.value);
+        }
+        pending.pop_back();
+      }
+      return map[root];
+    };
+    for (std::size_t i = 0; i < src.size(); ++i) {
+      const SsaInstr& s = src[i];
+      Affine r{};
+      bool ok = true;
+      const Affine* a = op_arity(s.op) > 0 && affine[s.a] ? &aff[s.a] : nullptr;
+      const Affine* b = op_arity(s.op) > 1 && affine[s.b] ? &aff[s.b] : nullptr;
+      switch (s.op) {
+        case Op::VarX:
+        case Op::VarY:
+        case Op::VarZ: {
+          const int axis = static_cast<int>(s.op) - static_cast<int>(Op::VarX);
+          r = {{cam.right[axis], cam.up[axis], cam.toward[axis], cam.center[axis]}};
+          break;
+        }
+        case Op::Const: r.c[3] = s.value; break;
+        case Op::Neg:
+          ok = a;
+          if (ok)
+            for (int k = 0; k < 4; ++k) r.c[k] = -a->c[k];
+          break;
+        case Op::Add:
+        case Op::Sub:
+          ok = a && b;
+          if (ok)
+            for (int k = 0; k < 4; ++k) r.c[k] = s.op == Op::Add ? a->c[k] + b->c[k] : a->c[k] - b->c[k];
+          break;
+        case Op::Mul:
+          ok = a && b && (constant(*a) || constant(*b));
+          if (ok) {
+            const Affine& v = constant(*a) ? *b : *a;
+            const double f = constant(*a) ? a->c[3] : b->c[3];
+            for (int k = 0; k < 4; ++k) r.c[k] = v.c[k] * f;
+          }
+          break;
+        case Op::Div:
+          ok = a && b && constant(*b) && b->c[3] != 0;
+          if (ok)
+            for (int k = 0; k < 4; ++k) r.c[k] = a->c[k] / b->c[3];
+          break;
+        default: ok = false;
+      }
+      for (int k = 0; k < 4 && ok; ++k) ok = std::isfinite(r.c[k]) && std::fabs(r.c[k]) <= 3.0e38;
+      if (ok) {
+        aff[i] = r;
+        affine[i] = 1;
+        const int ar = op_arity(s.op);
+        if (s.op == Op::VarX || s.op == Op::VarY || s.op == Op::VarZ)
+          axes[i] = static_cast<std::uint8_t>(1u << (static_cast<int>(s.op) - static_cast<int>(Op::VarX)));
+        else
+          axes[i] = static_cast<std::uint8_t>((ar > 0 ? axes[s.a] : 0) | (ar > 1 ? axes[s.b] : 0));
+        continue;
+      }
+      const int ar = op_arity(s.op);
+      if (ar == 0) {
+        map[i] = s.op == Op::Const ? emit(Op::Const, 0, 0, s.value) : model_var[static_cast<int>(s.op) - static_cast<int>(Op::VarX)];
+        continue;
+      }
+      const std::uint32_t ea = get(s.a);
+      map[i] = emit(s.op, ea, ar > 1 ? get(s.b) : 0, s.value);
+    }
+    get(static_cast<std::uint32_t>(src.size() - 1));
   }
   std::uint32_t root = map.back();
   if (!cam.axis_aligned) {
