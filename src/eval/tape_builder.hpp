@@ -38,6 +38,7 @@ class Tape::Builder {
   Builder(Tape& out, std::size_t n_in, bool registers, std::size_t n_out = SIZE_MAX, std::uint32_t* remap = nullptr,
           std::size_t stride = 1)
       : out_(out), registers_(registers), stride_(stride) {
+    FREP_ASSERT(n_in < kConstBit, "tape too long");
     n_out = std::min(n_in, n_out);
     grow_scratch(out.ssa_, n_out);
     if (registers) grow_scratch(out.code_, n_out);
@@ -56,14 +57,14 @@ class Tape::Builder {
   [[gnu::always_inline]] void alias(std::size_t i, std::uint32_t src) { remap_[i * stride_] = remap_[src * stride_]; }
 
   [[gnu::always_inline]] void constant(std::size_t i, float v) {
-    remap_[i * stride_] = m_;
+    remap_[i * stride_] = m_ | kConstBit;
     os_[m_++] = {Op::Const, 0, 0, v};
   }
 
   [[gnu::always_inline]] inline void keep(std::size_t i, const SsaInstr& ins) {
-    remap_[i * stride_] = m_;
     const int ar = op_arity(ins.op);
     if (ar == 0) {
+      remap_[i * stride_] = ins.op == Op::Const ? m_ | kConstBit : m_;
       os_[m_] = ins;
       if (ins.op != Op::Const) {
         vars_ |= static_cast<std::uint8_t>(1u << (static_cast<int>(ins.op) - static_cast<int>(Op::VarX)));
@@ -72,14 +73,19 @@ class Tape::Builder {
       ++m_;
       return;
     }
-    const std::uint32_t a = remap_[ins.a * stride_];
-    const std::uint32_t b = ar == 2 ? remap_[ins.b * stride_] : 0;
-    const bool ca = os_[a].op == Op::Const;
-    const bool cb = ar == 2 && os_[b].op == Op::Const;
+    // Constness travels in the remap entries, so that arguments' output entries (anywhere in
+    // the output) are only read for the values of constants.
+    const std::uint32_t ra = remap_[ins.a * stride_];
+    const std::uint32_t rb = ar == 2 ? remap_[ins.b * stride_] : 0;
+    const std::uint32_t a = ra & ~kConstBit, b = rb & ~kConstBit;
+    const bool ca = ra & kConstBit;
+    const bool cb = ar == 2 && (rb & kConstBit);
     if (ca && (ar == 1 || cb)) {
+      remap_[i * stride_] = m_ | kConstBit;
       os_[m_++] = {Op::Const, 0, 0, op_eval<float>(ins.op, os_[a].value, cb ? os_[b].value : 0.0f)};
       return;
     }
+    remap_[i * stride_] = m_;
     const bool choice = op_is_choice(ins.op);
     os_[m_] = {ins.op, a, b, choice ? std::bit_cast<float>(choices_) : 0.0f};
     choices_ += choice;
@@ -103,7 +109,7 @@ class Tape::Builder {
     t.code_size_ = k_;
     t.choices_ = choices_;
     t.vars_ = vars_;
-    const std::uint32_t root = remap_[root_in * stride_];
+    const std::uint32_t root = remap_[root_in * stride_] & ~kConstBit;
     if (root + 1 != m_) {
       // Only a constant root can end up before other (then dead) instructions.
       FREP_ASSERT(os_[root].op == Op::Const, "root is not last");
@@ -124,6 +130,8 @@ class Tape::Builder {
   }
 
  private:
+  // Flags a remap entry whose output instruction is a constant (tapes stay below 2^31).
+  static constexpr std::uint32_t kConstBit = 0x80000000u;
   Tape& out_;
   bool registers_;
   std::size_t trivial_limit_ = kMaxTrivialRegisters;
