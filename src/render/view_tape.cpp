@@ -120,6 +120,86 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
       }
       return map[root];
     };
+    // A squared length |w|^2 = w_x^2 + w_y^2 + w_z^2 (in either association) of a vector
+    // w = alpha (p - a) + g c, where g is one value and c a constant vector (a squared distance
+    // to a point: c = 0; to a segment, as converted meshes write it: g the clamped position along
+    // it), is the same in view coordinates: with p = center + R q it is
+    // |alpha (q - R^T (a - center)) + g R^T c|^2. Bounded from u, v, w, each square sees the
+    // exact range of its view coordinate instead of a model axis's hull over the box. Returns
+    // kNotEmitted unless source value i has that form.
+    const auto rotated_norm = [&](std::size_t i) -> std::uint32_t {
+      std::uint32_t sq[3];
+      const SsaInstr& s = src[i];
+      const auto is_op = [&](std::uint32_t j, Op op) { return src[j].op == op; };
+      if (is_op(s.a, Op::Add) && is_op(s.b, Op::Square)) {
+        sq[0] = src[s.a].a, sq[1] = src[s.a].b, sq[2] = s.b;
+      } else if (is_op(s.b, Op::Add) && is_op(s.a, Op::Square)) {
+        sq[0] = s.a, sq[1] = src[s.b].a, sq[2] = src[s.b].b;
+      } else {
+        return kNotEmitted;
+      }
+      // The constant factor of a value: (g, c) for g * c, c * g or g itself.
+      const auto scaled = [&](std::uint32_t j, std::uint32_t& g, double& c) {
+        const SsaInstr& t = src[j];
+        if (t.op == Op::Mul && affine[t.b] && constant(aff[t.b]) && !affine[t.a]) return g = t.a, c = aff[t.b].c[3], true;
+        if (t.op == Op::Mul && affine[t.a] && constant(aff[t.a]) && !affine[t.b]) return g = t.b, c = aff[t.a].c[3], true;
+        if (!affine[j]) return g = j, c = 1, true;
+        return false;
+      };
+      double scale = 0;
+      Vec3 a, c;  // the point, and g's vector
+      std::uint32_t g = kNotEmitted;
+      std::uint8_t seen = 0;
+      for (std::uint32_t j : sq) {
+        if (!is_op(j, Op::Square)) return kNotEmitted;
+        std::uint32_t o = src[j].a;  // alpha_k (x_k - a_k) + g c_k
+        std::uint32_t gk = kNotEmitted;
+        double ck = 0;
+        if (!affine[o]) {
+          const SsaInstr& t = src[o];
+          if (t.op != Op::Add && t.op != Op::Sub) return kNotEmitted;
+          if (!affine[t.a] || !scaled(t.b, gk, ck)) return kNotEmitted;
+          if (t.op == Op::Sub) ck = -ck;
+          if (g != kNotEmitted && gk != g) return kNotEmitted;
+          g = gk;
+          o = t.a;
+        }
+        if (!affine[o] || std::popcount(axes[o]) != 1 || (seen & axes[o])) return kNotEmitted;
+        seen |= axes[o];
+        const int k = std::countr_zero(axes[o]);
+        const Vec3 row{cam.right[k], cam.up[k], cam.toward[k]};  // u, v, w coefficients of x_k
+        const Affine& f = aff[o];
+        const double alpha = f.c[0] * row.x + f.c[1] * row.y + f.c[2] * row.z;
+        if (!(alpha != 0) || std::fabs(f.c[0] - alpha * row.x) + std::fabs(f.c[1] - alpha * row.y) +
+                                     std::fabs(f.c[2] - alpha * row.z) > 1e-12 * std::fabs(alpha))
+          return kNotEmitted;
+        // Equal scales up to the rounding of the rotation's rows (unit to about 1e-16).
+        if (scale == 0) scale = std::fabs(alpha);
+        else if (!(std::fabs(std::fabs(alpha) - scale) <= 1e-12 * scale)) return kNotEmitted;
+        // alpha x_k + beta = alpha (x_k - a_k), beta the constant at the model origin; the sign
+        // of alpha moves to c_k (the square does not see it).
+        const double beta = f.c[3] - alpha * cam.center[k];
+        a[k] = -beta / alpha;
+        c[k] = alpha > 0 ? ck : -ck;
+      }
+      if (!std::isfinite(length2(a)) || !std::isfinite(length2(c))) return kNotEmitted;
+      const Vec3 d = a - cam.center;
+      const double ap[3] = {dot(d, cam.right), dot(d, cam.up), dot(d, cam.toward)};
+      const double cp[3] = {dot(c, cam.right), dot(c, cam.up), dot(c, cam.toward)};
+      const std::uint32_t ge = g == kNotEmitted ? 0 : map[g];
+      std::uint32_t sum = 0;
+      for (int j = 0; j < 3; ++j) {
+        const float off = static_cast<float>(-ap[j]);
+        std::uint32_t t = off == 0 ? uvw[j] : emit(Op::Add, uvw[j], emit(Op::Const, 0, 0, off));
+        if (scale != 1) t = emit(Op::Mul, t, emit(Op::Const, 0, 0, static_cast<float>(scale)));
+        const float cj = static_cast<float>(cp[j]);
+        if (g != kNotEmitted && cj != 0)
+          t = emit(Op::Add, t, cj == 1 ? ge : emit(Op::Mul, ge, emit(Op::Const, 0, 0, cj)));
+        const std::uint32_t t2 = emit(Op::Square, t);
+        sum = j == 0 ? t2 : emit(Op::Add, sum, t2);
+      }
+      return sum;
+    };
     for (std::size_t i = 0; i < src.size(); ++i) {
       const SsaInstr& s = src[i];
       Affine r{};
@@ -176,6 +256,13 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
       if (ar == 0) {
         map[i] = s.op == Op::Const ? emit(Op::Const, 0, 0, s.value) : model_var[static_cast<int>(s.op) - static_cast<int>(Op::VarX)];
         continue;
+      }
+      if (s.op == Op::Add) {
+        const std::uint32_t norm = rotated_norm(i);
+        if (norm != kNotEmitted) {
+          map[i] = norm;
+          continue;
+        }
       }
       const std::uint32_t ea = get(s.a);
       map[i] = emit(s.op, ea, ar > 1 ? get(s.b) : 0, s.value);

@@ -1,7 +1,7 @@
 // The model tape in view coordinates: values equal the model's at the corresponding points
-// (with the bounds cut), from named and rotated views, on random expressions and a converted
-// mesh; under rotation, affine values (planes) are bounded tightly over view boxes; and chains
-// of affine values as long as the model do not recurse.
+// (with the bounds cut), from named and rotated views, on random expressions, squared distances
+// and a converted mesh; under rotation, affine values (planes) and squared distances are bounded
+// exactly over view boxes; and chains of affine values as long as the model do not recurse.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -66,6 +66,47 @@ TEST(ViewTape, ValuesMatchTheModelFromEveryView) {
   const Box3 bounds{{-1, -1.5, -1}, {1, 1, 2}};
   for (double yaw : {0.0, 35.0, 90.0, 217.0})
     for (double pitch : {0.0, -30.0, 61.0}) expect_same_values(t, bounds, yaw, pitch, 1e-5, "mixed expression");
+}
+
+// Squared distances to points and segments, written as converted meshes write them (offsets
+// from a vertex, the clamped position along an edge times the edge's step per axis), scaled.
+TEST(ViewTape, SquaredDistancesMatchTheModel) {
+  Graph g;
+  auto x = g.x(), y = g.y(), z = g.z();
+  const Expr ox = x - 0.3f, oy = y + 0.2f, oz = z - 0.1f;
+  const Expr s = ox * 0.5f + oy * -0.25f + oz;  // position along the edge
+  const Expr sc = max(min(s, 0.9f), 0.0f);
+  const Expr segment = square(ox - sc * 0.5f) + (square(oy + sc * 0.25f) + square(oz - sc));
+  const Expr point = (square(ox * 2.0f) + square(oy * -2.0f)) + square(oz * 2.0f);
+  const Expr e = min(segment, point * 0.25f) - 0.05f;
+  const Tape t = Tape::compile(g, e.id());
+  const Box3 bounds{{-1, -1, -1}, {1, 1, 1}};
+  for (double yaw : {20.0, 135.0})
+    for (double pitch : {-35.0, 10.0}) expect_same_values(t, bounds, yaw, pitch, 1e-5, "squared distances");
+}
+
+// Under rotation, a squared distance to a point is bounded over a view box by its exact range.
+TEST(ViewTape, SquaredDistancesAreBoundedExactlyUnderRotation) {
+  Graph g;
+  auto x = g.x(), y = g.y(), z = g.z();
+  const Vec3 c{0.4, -0.3, 0.2};
+  const Expr d2 = square(x - static_cast<float>(c.x)) + square(y - static_cast<float>(c.y)) + square(z - static_cast<float>(c.z));
+  const Box3 bounds{{-1, -1, -1}, {1, 1, 1}};
+  const Camera cam = camera(bounds, 35, -30);
+  const Tape view = view_tape(Tape::compile(g, d2.id()), cam, bounds);
+  IntervalEvaluator ie;
+  const Interval r = ie.eval(view, {-0.05f, 0.05f}, {-0.05f, 0.05f}, {-0.05f, 0.05f});
+  // The exact range over the view box [-0.05, 0.05]^3: per view axis, the range of (q_j - c'_j)^2.
+  const Vec3 d = c - cam.center;
+  const double cp[3] = {dot(d, cam.right), dot(d, cam.up), dot(d, cam.toward)};
+  double lo = 0, hi = 0;
+  for (double cj : cp) {
+    const double a = -0.05 - cj, b = 0.05 - cj;
+    lo += (a <= 0 && b >= 0) ? 0 : std::min(a * a, b * b);
+    hi += std::max(a * a, b * b);
+  }
+  EXPECT_NEAR(r.lo, lo, 1e-5);
+  EXPECT_NEAR(r.hi, hi, 1e-5);
 }
 
 TEST(ViewTape, RandomExpressionsMatchTheModel) {
