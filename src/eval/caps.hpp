@@ -12,6 +12,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdint>
 #include <limits>
 
 #include "frep/eval/interval.hpp"
@@ -44,6 +45,14 @@ inline MinCaps min_caps(float c, float alo, float ahi, float blo, float bhi) {
     r.cap_b = c;
   }
   return r;
+}
+
+// Whether a 16-box interval pass records a min's argument bounds for the caps: where some box to
+// simplify (`lanes`) keeps both sides (`left`, `right`: the boxes where intervals chose one).
+// Elsewhere no cap can change the choice. The pass and the simplification both ask this, so
+// that they walk the same record.
+inline bool min_bounds_recorded(std::uint32_t left, std::uint32_t right, std::uint32_t lanes) {
+  return (~(left | right) & lanes) != 0;
 }
 
 }  // namespace frep::caps

@@ -49,9 +49,10 @@ HWY_INLINE void Lanes(F f) {
 }
 
 // Evaluates register code over 16 boxes. Per instruction k: choice and fold bit masks; for each
-// `min` where a lane of `fold_lanes` (the boxes to simplify) keeps both sides, its arguments'
-// bounds (alo, ahi, blo, bhi, 16 lanes each) appended to `mins` for the caps of simplification; for each instruction with folded lanes, its 16 lower bounds appended to
-// `folds` (grown as needed). Registers hold [register][lane] bounds.
+// `min` where a box to simplify (a lane of `fold_lanes`) keeps both sides, its arguments' bounds
+// (alo, ahi, blo, bhi, 16 lanes each) appended to `mins` for the caps of simplification
+// (caps::min_bounds_recorded); for each instruction with folded lanes, its 16 lower bounds
+// appended to `folds` (grown as needed). Registers hold [register][lane] bounds.
 // Returns the number of mins stored.
 std::size_t EvalBoxes(const RegInstr* code, std::size_t n, float* lo, float* hi, std::uint16_t* left,
                       std::uint16_t* right, std::uint16_t* fold, float* mins, LargeVector<float>& folds,
@@ -169,7 +170,7 @@ std::size_t EvalBoxes(const RegInstr* code, std::size_t n, float* lo, float* hi,
           });
           // The arguments' bounds, for caps, where a box to simplify keeps both sides (before
           // the result may overwrite an argument).
-          if (~(lbits | rbits) & fold_lanes) {
+          if (caps::min_bounds_recorded(lbits, rbits, fold_lanes)) {
             Lanes([&](D dd, int j) {
               hn::Store(hn::Load(dd, alo + j), dd, mins + 0 * L + j);
               hn::Store(hn::Load(dd, ahi + j), dd, mins + 1 * L + j);
@@ -232,7 +233,6 @@ HWY_AFTER_NAMESPACE();
 namespace frep {
 HWY_EXPORT(EvalBoxes);
 
-
 IntervalBatchEvaluator::IntervalBatchEvaluator() = default;
 IntervalBatchEvaluator::~IntervalBatchEvaluator() = default;
 
@@ -277,7 +277,8 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
                                               bool leaves) {
   const std::size_t n = size_;
   FREP_ASSERT(tape.size() == n && tape.code().size() == code_size_, "simplify needs the tape of the last eval");
-  lanes &= (1u << simplified_) - 1;
+  const std::uint32_t simplifiable = (1u << simplified_) - 1;
+  lanes &= simplifiable;
   if (!lanes) return 0;
   const SsaInstr* in = tape.ssa().data();
   const std::size_t choices = tape.choice_count();
@@ -327,7 +328,6 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
   };
   std::size_t kc = tape.code().size();
   const float* mins = mins_.data() + mins_count_ * 4 * kLanes;
-  const std::uint32_t all_lanes = (1u << simplified_) - 1;
   for (std::size_t i = n; i-- > 0;) {
     const SsaInstr& ins = in[i];
     const std::uint32_t m = live[i];
@@ -336,7 +336,7 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
       continue;
     }
     --kc;
-    if (ins.op == Op::Min && (~(left_[kc] | right_[kc]) & all_lanes)) mins -= 4 * kLanes;  // as EvalBoxes stored
+    if (ins.op == Op::Min && caps::min_bounds_recorded(left_[kc], right_[kc], simplifiable)) mins -= 4 * kLanes;
     if (!m) continue;
     for (std::uint32_t bits = m; bits; bits &= bits - 1) ++kept[__builtin_ctz(bits)];
     const int ar = op_arity(ins.op);

@@ -80,11 +80,7 @@ class Tape::Builder {
     const std::uint32_t a = ra & ~kConstBit, b = rb & ~kConstBit;
     const bool ca = ra & kConstBit;
     const bool cb = ar == 2 && (rb & kConstBit);
-    if (ca && (ar == 1 || cb)) {
-      remap_[i * stride_] = m_ | kConstBit;
-      os_[m_++] = {Op::Const, 0, 0, op_eval<float>(ins.op, os_[a].value, cb ? os_[b].value : 0.0f)};
-      return;
-    }
+    if (ca && (ar == 1 || cb)) return constant(i, op_eval<float>(ins.op, os_[a].value, cb ? os_[b].value : 0.0f));
     remap_[i * stride_] = m_;
     const bool choice = op_is_choice(ins.op);
     os_[m_] = {ins.op, a, b, choice ? std::bit_cast<float>(choices_) : 0.0f};

@@ -17,27 +17,28 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
     return static_cast<std::uint32_t>(ssa.size() - 1);
   };
   const std::uint32_t uvw[3] = {emit(Op::VarX), emit(Op::VarY), emit(Op::VarZ)};
-  // Model axis `axis` minus its center: sum over view axes of coefficient * view variable, with
-  // zero terms dropped and +-1 without a multiplication (so axis-aligned views stay exact).
-  auto offset_from_center = [&](int axis) {
-    const double coef[3] = {cam.right[axis], cam.up[axis], cam.toward[axis]};
+  // c0 u + c1 v + c2 w + c3 with the coefficients rounded to float: zero terms dropped and +-1
+  // without a multiplication (so axis-aligned views stay exact).
+  const auto emit_linear = [&](const double (&c)[4]) {
     std::uint32_t sum = 0;
     bool any = false;
     for (int k = 0; k < 3; ++k) {
-      if (coef[k] == 0) continue;
-      std::uint32_t term;
-      if (coef[k] == 1) term = uvw[k];
-      else if (coef[k] == -1) term = emit(Op::Neg, uvw[k]);
-      else term = emit(Op::Mul, emit(Op::Const, 0, 0, static_cast<float>(coef[k])), uvw[k]);
+      const float ck = static_cast<float>(c[k]);
+      if (ck == 0) continue;
+      const std::uint32_t term = ck == 1    ? uvw[k]
+                                 : ck == -1 ? emit(Op::Neg, uvw[k])
+                                            : emit(Op::Mul, emit(Op::Const, 0, 0, ck), uvw[k]);
       sum = any ? emit(Op::Add, sum, term) : term;
       any = true;
     }
-    if (!any) sum = emit(Op::Const, 0, 0, 0.0f);
-    return sum;
+    const float c3 = static_cast<float>(c[3]);
+    if (!any) return emit(Op::Const, 0, 0, c3);
+    return c3 == 0 ? sum : emit(Op::Add, sum, emit(Op::Const, 0, 0, c3));
   };
+  // Model axis `axis` minus its center, and the model variable itself.
   std::uint32_t rel[3], model_var[3];
   for (int axis = 0; axis < 3; ++axis) {
-    rel[axis] = offset_from_center(axis);
+    rel[axis] = emit_linear({cam.right[axis], cam.up[axis], cam.toward[axis], 0});
     const float c = static_cast<float>(cam.center[axis]);
     model_var[axis] = c == 0 ? rel[axis] : emit(Op::Add, rel[axis], emit(Op::Const, 0, 0, c));
   }
@@ -71,20 +72,6 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
     std::vector<std::uint8_t> axes(src.size(), 0);  // affine values: bits of the model axes they depend on
     constexpr std::uint32_t kNotEmitted = UINT32_MAX;
     std::fill(map.begin(), map.end(), kNotEmitted);
-    const auto emit_affine = [&](const Affine& f) {
-      std::uint32_t sum = 0;
-      bool any = false;
-      for (int k = 0; k < 3; ++k) {
-        const float c = static_cast<float>(f.c[k]);
-        if (c == 0) continue;
-        const std::uint32_t term = c == 1 ? uvw[k] : c == -1 ? emit(Op::Neg, uvw[k]) : emit(Op::Mul, emit(Op::Const, 0, 0, c), uvw[k]);
-        sum = any ? emit(Op::Add, sum, term) : term;
-        any = true;
-      }
-      const float c0 = static_cast<float>(f.c[3]);
-      if (!any) return emit(Op::Const, 0, 0, c0);
-      return c0 == 0 ? sum : emit(Op::Add, sum, emit(Op::Const, 0, 0, c0));
-    };
     const auto constant = [](const Affine& f) { return f.c[0] == 0 && f.c[1] == 0 && f.c[2] == 0; };
     // The instruction computing source value j in the view tape. An affine value of one model
     // axis (such as x - a), or a scaled or shifted affine value, is bounded exactly from its
@@ -104,7 +91,7 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
         const int ar = op_arity(s.op);
         const bool combines = (s.op == Op::Add || s.op == Op::Sub) && !constant(aff[s.a]) && !constant(aff[s.b]);
         if (std::popcount(axes[j]) > 1 && combines) {
-          map[j] = emit_affine(aff[j]);
+          map[j] = emit_linear(aff[j].c);
         } else if (ar == 0) {
           map[j] = s.op == Op::Const ? emit(Op::Const, 0, 0, s.value) : model_var[static_cast<int>(s.op) - static_cast<int>(Op::VarX)];
         } else if (map[s.a] == kNotEmitted) {
@@ -202,10 +189,11 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
     };
     for (std::size_t i = 0; i < src.size(); ++i) {
       const SsaInstr& s = src[i];
+      const int ar = op_arity(s.op);
       Affine r{};
       bool ok = true;
-      const Affine* a = op_arity(s.op) > 0 && affine[s.a] ? &aff[s.a] : nullptr;
-      const Affine* b = op_arity(s.op) > 1 && affine[s.b] ? &aff[s.b] : nullptr;
+      const Affine* a = ar > 0 && affine[s.a] ? &aff[s.a] : nullptr;
+      const Affine* b = ar > 1 && affine[s.b] ? &aff[s.b] : nullptr;
       switch (s.op) {
         case Op::VarX:
         case Op::VarY:
@@ -245,15 +233,13 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
       if (ok) {
         aff[i] = r;
         affine[i] = 1;
-        const int ar = op_arity(s.op);
         if (s.op == Op::VarX || s.op == Op::VarY || s.op == Op::VarZ)
           axes[i] = static_cast<std::uint8_t>(1u << (static_cast<int>(s.op) - static_cast<int>(Op::VarX)));
         else
           axes[i] = static_cast<std::uint8_t>((ar > 0 ? axes[s.a] : 0) | (ar > 1 ? axes[s.b] : 0));
         continue;
       }
-      const int ar = op_arity(s.op);
-      if (ar == 0) {
+      if (ar == 0) {  // a constant the affine forms refuse (infinite, NaN or near the float limit)
         map[i] = s.op == Op::Const ? emit(Op::Const, 0, 0, s.value) : model_var[static_cast<int>(s.op) - static_cast<int>(Op::VarX)];
         continue;
       }
