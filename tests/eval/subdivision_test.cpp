@@ -137,6 +137,10 @@ void check(int spheres_count, int n, std::vector<int> tiles) {
 
 TEST(Subdivision, SmallTapeCoversEveryBoxOnceWithExactLeafTapes) { check(40, 48, {16, 8, 4}); }
 
+// A top tile as big as the grid: one box at the first level, too few for two workers, so the
+// frontier goes on breadth first past the levels asked for (the same leaves either way).
+TEST(Subdivision, SmallFrontierGoesOnBreadthFirst) { check(40, 48, {64, 16, 4}); }
+
 // Above the driver's big-tape threshold (2^18 instructions).
 TEST(Subdivision, BigTapeTakesTheSameBoxes) { check(30000, 24, {12, 6, 3}); }
 

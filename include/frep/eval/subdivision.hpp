@@ -349,10 +349,16 @@ void Subdivider::run(const Tape& tape, const SampleGrid& grid, const IndexBox& r
 
   // Breadth first for the first levels, so that the parallel work items are many and small
   // enough to balance. Simplified tapes of the frontier are kept per level.
-  const int bfs_levels = std::clamp(options_.breadth_first_levels, 1, levels);
-  if (static_cast<int>(frontier_tapes_.size()) < bfs_levels) frontier_tapes_.resize(static_cast<std::size_t>(bfs_levels));
+  // Beyond the levels asked for, breadth first goes on while the frontier is too small for the
+  // workers to share (a view volume just over a power of two splits into 2 boxes at the top,
+  // leaving one worker all the work).
+  const int asked = std::clamp(options_.breadth_first_levels, 1, levels);
+  const std::size_t enough = workers() > 1 ? static_cast<std::size_t>(4 * workers()) : 1;
+  if (static_cast<int>(frontier_tapes_.size()) < levels) frontier_tapes_.resize(static_cast<std::size_t>(levels));
   std::vector<Item> frontier{{region, &tape}};
-  for (int level = 0; level < bfs_levels; ++level) {
+  int bfs_levels = 0;
+  for (int level = 0; level < levels && (level < asked || frontier.size() < enough); ++level) {
+    bfs_levels = level + 1;
     const int step = options_.tiles[static_cast<std::size_t>(level)];
     // Tape slots per frontier box: kLanes per group of children.
     std::vector<std::size_t> first(frontier.size() + 1, 0);
