@@ -313,7 +313,10 @@ void Subdivider::run(const Tape& tape, const SampleGrid& grid, const IndexBox& r
     // The top boxes in groups, each group in one interval pass on the whole tape; then the open
     // ones descend in parallel, each from its own simplified tape.
     const bool last = start + 1 == levels;
-    const std::size_t lanes = static_cast<std::size_t>(group_lanes(tape));
+    // At least one group per worker: a single group would leave the other workers idle while
+    // the whole tape is evaluated and simplified for the top boxes.
+    const std::size_t per_worker = (top.size() + static_cast<std::size_t>(workers()) - 1) / static_cast<std::size_t>(workers());
+    const std::size_t lanes = std::min(static_cast<std::size_t>(group_lanes(tape)), std::max<std::size_t>(per_worker, 1));
     const std::size_t groups = (top.size() + lanes - 1) / lanes;
     if (frontier_tapes_.empty()) frontier_tapes_.resize(1);
     std::vector<Tape>& store = frontier_tapes_[0];
