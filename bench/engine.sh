@@ -5,14 +5,9 @@
 # loading and tape compilation excluded). Every configuration timed is first checked against the
 # brute-force image pixel for pixel; a mismatch aborts the benchmark.
 #   bash bench/engine.sh            # builds bench_eval if needed, prints the table and ratios
-set -euo pipefail
-cd "$(dirname "$0")/.."
-if [ ! -f ../shared/data/vm/prospero.vm ]; then
-  echo "bench/engine.sh: ../shared/data/vm/prospero.vm not found; nothing to measure" >&2
-  exit 1
-fi
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DFREP_BUILD_BENCH=ON >/dev/null
-cmake --build build --target bench_eval >/dev/null
+source "$(dirname "$0")/common.sh"
+require_input ../shared/data/vm/prospero.vm
+build_targets bench_eval
 out=$(./build/bench/bench_eval --benchmark_min_time=2 --benchmark_repetitions=3 \
       --benchmark_report_aggregates_only=true 2>&1)
 echo "$out"

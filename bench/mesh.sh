@@ -7,10 +7,8 @@
 # validated once (closed, manifold, outward, no self-intersections; printed as "check:").
 # The machine is shared: the load average is printed, and CPU time is shown beside wall time.
 #   bash bench/mesh.sh
-set -euo pipefail
-cd "$(dirname "$0")/.."
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DFREP_BUILD_BENCH=ON >/dev/null
-cmake --build build --target bench_mesh >/dev/null
+source "$(dirname "$0")/common.sh"
+build_targets bench_mesh
 echo "load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
 out=$(./build/bench/bench_mesh --benchmark_filter='BM_(Bear|Sphere|Spheres1000)/' --benchmark_min_time=0.5 \
       --benchmark_repetitions=3 --benchmark_report_aggregates_only=true 2>&1)

@@ -7,15 +7,10 @@
 # Brute force samples every FREP_RENDER3D_ROWS-th row (default 16) and is scaled to the whole
 # image (rows cost independently); FREP_RENDER3D_ROWS=1 renders it all (minutes for the bear).
 # The pruned depth map is checked bit for bit against brute force on those rows first.
-set -euo pipefail
-cd "$(dirname "$0")/.."
+source "$(dirname "$0")/common.sh"
 model=${FREP_RENDER3D_MODEL:-../shared/data/vm/bear.vm}
-if [ ! -f "$model" ]; then
-  echo "bench/render3d.sh: $model not found; nothing to measure" >&2
-  exit 1
-fi
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DFREP_BUILD_BENCH=ON >/dev/null
-cmake --build build --target bench_render3d >/dev/null
+require_input "$model"
+build_targets bench_render3d
 out=$(FREP_RENDER3D_MODEL="$model" ./build/bench/bench_render3d 2>&1)
 echo "$out"
 field() { echo "$out" | awk -v n="$1" -v c="$2" '$1 == n {print $c}'; }

@@ -5,15 +5,10 @@
 # it on bear.vm). Compare builds by running this script on each, one after the other.
 #   bash bench/render_converted.sh                     # ../shared/data/meshes/armadillo_libigl.obj
 #   FREP_MESH=path.obj FREP_RENDER3D_SIZE=512 bash bench/render_converted.sh
-set -euo pipefail
-cd "$(dirname "$0")/.."
+source "$(dirname "$0")/common.sh"
 mesh=${FREP_MESH:-../shared/data/meshes/armadillo_libigl.obj}
-if [ ! -f "$mesh" ]; then
-  echo "bench/render_converted.sh: $mesh not found; nothing to measure" >&2
-  exit 1
-fi
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DFREP_BUILD_BENCH=ON >/dev/null
-cmake --build build --target frep bench_render3d >/dev/null
+require_input "$mesh"
+build_targets frep bench_render3d
 mkdir -p build/bench_data
 field="build/bench_data/$(basename "${mesh%.*}").frep"
 ./build/frep convert "$mesh" -o "$field" >/dev/null 2>build/bench_data/convert.log || { cat build/bench_data/convert.log >&2; exit 1; }
