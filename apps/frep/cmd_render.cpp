@@ -154,8 +154,7 @@ void register_render(CLI::App& app) {
         if (!(box.lo[i] < box.hi[i])) box.lo[i] -= 1, box.hi[i] += 1;  // flat: give it some depth
     }
     const auto t0 = std::chrono::steady_clock::now();
-    Image img;
-    try {
+    const auto draw = [&]() -> Image {
       if (three_d->count()) {
         Render3DOptions o;
         o.size = a->opt.size;
@@ -176,8 +175,9 @@ void register_render(CLI::App& app) {
         so.mode = a->mode == "depth" ? ShadeMode::Depth : a->mode == "normals" ? ShadeMode::Normals : ShadeMode::Shaded;
         so.ambient_occlusion = a->ao;
         so.threads = a->opt.threads;
-        img = shade(render3d(tape, o), so);
-      } else if (slice->count()) {
+        return shade(render3d(tape, o), so);
+      }
+      if (slice->count()) {
         SliceOptions o;
         parse_slice(a->slice, o.axis, o.offset);
         o.size = a->opt.size;
@@ -185,13 +185,16 @@ void register_render(CLI::App& app) {
         o.bounds = box;
         o.contour = contour->count() ? a->contour : 0;
         if (!a->tiles.empty()) o.tiles = a->tiles;
-        img = render_slice(tape, o);
-      } else {
-        RenderOptions o = a->opt;
-        if (!a->tiles.empty()) o.tiles = a->tiles;
-        o.lipschitz = lipschitz_of(m, a->lipschitz);
-        img = render2d(tape, o);
+        return render_slice(tape, o);
       }
+      RenderOptions o = a->opt;
+      if (!a->tiles.empty()) o.tiles = a->tiles;
+      o.lipschitz = lipschitz_of(m, a->lipschitz);
+      return render2d(tape, o);
+    };
+    Image img;
+    try {
+      img = draw();
     } catch (const InputError& e) {
       // Name the input the picture is of (and where its region came from).
       if (!e.file().empty()) throw;

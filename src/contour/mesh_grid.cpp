@@ -30,12 +30,13 @@ MeshGrid make_grid(const Box3& region, double h, int margin) {
     auto& c = g.grid.coords[static_cast<std::size_t>(a)];
     c.resize(static_cast<std::size_t>(n) + 1);
     for (int i = 0; i <= n; ++i) c[static_cast<std::size_t>(i)] = static_cast<float>(lo + i * h);
+  }
+  g.grid.check("region to mesh");
+  for (int a = 0; a < 3; ++a) {
+    const auto& c = g.grid.coords[static_cast<std::size_t>(a)];
     // Corners must be distinct in f32, with room for crossings between them.
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i + 1 < static_cast<int>(c.size()); ++i) {
       const float a0 = c[static_cast<std::size_t>(i)], a1 = c[static_cast<std::size_t>(i) + 1];
-      if (!std::isfinite(a0) || !std::isfinite(a1))
-        throw InputError("", 0, std::string("the region to mesh reaches beyond 32-bit floats along ") + "xyz"[a] +
-                                    ": give smaller --bounds");
       if (!(a1 > a0) || (a1 - a0) < 64 * (std::nextafter(a0, INFINITY) - a0)) {
         char msg[300];
         std::snprintf(msg, sizeof msg,

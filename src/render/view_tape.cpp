@@ -43,20 +43,17 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
     model_var[axis] = c == 0 ? rel[axis] : emit(Op::Add, rel[axis], emit(Op::Const, 0, 0, c));
   }
 
+  // A model instruction without arguments: its constant, or the model variable.
+  const auto leaf = [&](const SsaInstr& s) {
+    return s.op == Op::Const ? emit(Op::Const, 0, 0, s.value) : model_var[static_cast<int>(s.op) - static_cast<int>(Op::VarX)];
+  };
   const auto src = model.ssa();
   std::vector<std::uint32_t> map(src.size());
   if (cam.axis_aligned) {
     for (std::size_t i = 0; i < src.size(); ++i) {
       const SsaInstr& s = src[i];
-      switch (s.op) {
-        case Op::VarX: map[i] = model_var[0]; break;
-        case Op::VarY: map[i] = model_var[1]; break;
-        case Op::VarZ: map[i] = model_var[2]; break;
-        default: {
-          const int ar = op_arity(s.op);
-          map[i] = emit(s.op, ar > 0 ? map[s.a] : 0, ar > 1 ? map[s.b] : 0, s.value);
-        }
-      }
+      const int ar = op_arity(s.op);
+      map[i] = ar == 0 ? leaf(s) : emit(s.op, map[s.a], ar > 1 ? map[s.b] : 0, s.value);
     }
   } else {
     // Rotated views: every model value that is affine in x, y, z (planes, coordinate
@@ -93,7 +90,7 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
         if (std::popcount(axes[j]) > 1 && combines) {
           map[j] = emit_linear(aff[j].c);
         } else if (ar == 0) {
-          map[j] = s.op == Op::Const ? emit(Op::Const, 0, 0, s.value) : model_var[static_cast<int>(s.op) - static_cast<int>(Op::VarX)];
+          map[j] = leaf(s);
         } else if (map[s.a] == kNotEmitted) {
           pending.push_back(s.a);
           continue;
@@ -240,7 +237,7 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
         continue;
       }
       if (ar == 0) {  // a constant the affine forms refuse (infinite, NaN or near the float limit)
-        map[i] = s.op == Op::Const ? emit(Op::Const, 0, 0, s.value) : model_var[static_cast<int>(s.op) - static_cast<int>(Op::VarX)];
+        map[i] = leaf(s);
         continue;
       }
       if (s.op == Op::Add) {

@@ -359,9 +359,8 @@ void Subdivider::run(const Tape& tape, const SampleGrid& grid, const IndexBox& r
   const std::size_t enough = workers() > 1 ? static_cast<std::size_t>(4 * workers()) : 1;
   if (static_cast<int>(frontier_tapes_.size()) < levels) frontier_tapes_.resize(static_cast<std::size_t>(levels));
   std::vector<Item> frontier{{region, &tape}};
-  int bfs_levels = 0;
-  for (int level = 0; level < levels && (level < asked || frontier.size() < enough); ++level) {
-    bfs_levels = level + 1;
+  int level = 0;  // after the loop: the number of levels expanded breadth first
+  for (; level < levels && (level < asked || frontier.size() < enough); ++level) {
     const int step = options_.tiles[static_cast<std::size_t>(level)];
     // Tape slots per frontier box: kLanes per group of children.
     std::vector<std::size_t> first(frontier.size() + 1, 0);
@@ -391,9 +390,9 @@ void Subdivider::run(const Tape& tape, const SampleGrid& grid, const IndexBox& r
     frontier.clear();
     for (auto& p : parts) frontier.insert(frontier.end(), p.begin(), p.end());
   }
-  if (bfs_levels == levels) return;
+  if (level == levels) return;
   pool_->parallel_for(static_cast<int>(frontier.size()),
-                      [&](int wi, int i) { descend(descend, wi, frontier[static_cast<std::size_t>(i)], bfs_levels - 1); });
+                      [&](int wi, int i) { descend(descend, wi, frontier[static_cast<std::size_t>(i)], level - 1); });
 }
 
 }  // namespace frep
