@@ -75,6 +75,15 @@ struct Shape {
   Vec3 tip[kMaxPlanes];  // the capped polyhedron is the hull of p[] + reach * tip[]
   int ntip = 0;
 
+  // Back to an empty shape of the given kind; the arrays are left as they are (nh, ntip count them).
+  void reset(Kind k) {
+    kind = k;
+    np = nh = ntip = 0;
+    dir = anchor = edir = normal = Vec3{};
+    base = spread = 0;
+    wide = false;
+    cap = true;
+  }
   void add(const Vec3& n, const Vec3& through) {
     if (nh < kMaxPlanes) h[nh++] = {n, dot(n, through)};
   }
@@ -136,8 +145,7 @@ struct Context {
 // Builds the polyhedron of a feature; false if it has no interior (nothing to scan).
 bool make_shape(const Context& ctx, const Feature& f, Shape& s) {
   const TriMesh& m = ctx.mesh;
-  s = Shape{};
-  s.kind = f.kind;
+  s.reset(f.kind);
   switch (f.kind) {
     case Kind::Face: {
       const Vec3& n = ctx.topo.face_normal(f.element);
@@ -290,6 +298,7 @@ double find_reach(const Context& ctx, const Shape& s) {
   const Box3& gb = ctx.grid.bounds;
   const double tol = ctx.margin * 4;
   double reach = 0;
+  int hint[3] = {-1, -1, -1};
   for (int shell = 0;; ++shell) {
     const double t0 = shell * ctx.shell, t1 = t0 + ctx.shell, tm = 0.5 * (t0 + t1);
     Vec3 center = s.anchor;
@@ -308,16 +317,32 @@ double find_reach(const Context& ctx, const Shape& s) {
         empty = true;
     }
     if (empty) break;
+    const auto passes = [&](int a, int b, int c) {
+      const Vec3 cc = ctx.cell_center(a, b, c);
+      if (length(cc - center) > rho + ctx.cell_r + tol) return false;
+      // Points at distance >= t0 from the feature are at least t0 - base from its anchor.
+      if (length(cc - s.anchor) < t0 - s.base - ctx.cell_r - tol) return false;
+      return s.lower(cc) <= ctx.cell_distance(a, b, c) + 2 * ctx.cell_r + tol;
+    };
+    // The cell on the axis at the shell's middle, or the last shell's passing cell, usually passes:
+    // trying them first saves scanning the whole box.
     bool relevant = false;
+    {
+      int cell[3];
+      for (int a = 0; a < 3; ++a) {
+        const double origin = gb.lo[a] - 0.5 * ctx.h[a], size = kCell * ctx.h[a];
+        cell[a] = std::clamp(static_cast<int>(std::floor((center[a] - origin) / size)), lo[a], hi[a]);
+      }
+      relevant = passes(cell[0], cell[1], cell[2]);
+      if (!relevant && hint[0] >= 0) {
+        for (int a = 0; a < 3; ++a) cell[a] = std::clamp(hint[a], lo[a], hi[a]);
+        relevant = passes(cell[0], cell[1], cell[2]);
+      }
+    }
     for (int a = lo[0]; a <= hi[0] && !relevant; ++a)
       for (int b = lo[1]; b <= hi[1] && !relevant; ++b)
-        for (int c = lo[2]; c <= hi[2] && !relevant; ++c) {
-          const Vec3 cc = ctx.cell_center(a, b, c);
-          if (length(cc - center) > rho + ctx.cell_r + tol) continue;
-          // Points at distance >= t0 from the feature are at least t0 - base from its anchor.
-          if (length(cc - s.anchor) < t0 - s.base - ctx.cell_r - tol) continue;
-          relevant = s.lower(cc) <= ctx.cell_distance(a, b, c) + 2 * ctx.cell_r + tol;
-        }
+        for (int c = lo[2]; c <= hi[2] && !relevant; ++c)
+          if (passes(a, b, c)) relevant = true, hint[0] = a, hint[1] = b, hint[2] = c;
     if (!relevant) break;
     reach = t1;
   }
