@@ -113,6 +113,12 @@ Value fn_remap(Interp& in, Args a, std::uint32_t pos) {
   return Value::expr(in.remap(e, x, y, z));
 }
 
+// Older Fidget (and its own models/cabin.rhai and sponge.rhai) spells the 3-axis form remap_xyz.
+Value fn_remap_xyz(Interp& in, Args a, std::uint32_t pos) {
+  if (a.size() != 4) wrong_args(in, "remap_xyz", a, pos, "(shape, x, y, z)");
+  return fn_remap(in, a, pos);
+}
+
 Value fn_axes(Interp& in, Args a, std::uint32_t pos) {
   need(in, "axes", a, 0, pos, "no arguments");
   auto* m = new MapObj();
@@ -429,6 +435,7 @@ constexpr Builtin kCore[] = {
     {"atan2", binary_fn<Op::Atan2>},
     {"mod", binary_fn<Op::Mod>},
     {"remap", fn_remap},
+    {"remap_xyz", fn_remap_xyz},
     {"axes", fn_axes},
     {"draw", fn_draw},
     {"draw_rgb", fn_draw_rgb},

@@ -55,6 +55,7 @@ TEST(RhaiErrors, RuntimeErrorsNameLineAndColumn) {
   EXPECT_TRUE(fails_at("let a = 1;\nfoo(a)", 2, 1, "unknown function `foo`"));
   EXPECT_TRUE(fails_at("fn f(a) { a }\nf(1, 2)", 2, 1, "function `f` takes 1 argument(s), not 2"));
   EXPECT_TRUE(fails_at("y + q", 1, 5, "variable `q` is not defined"));
+  EXPECT_TRUE(fails_at("x.remap_xyz(y, x)", 1, 2, "remap_xyz"));
   EXPECT_TRUE(fails_at("let a = sqrt; a", 1, 9, "`sqrt` is a function, not a variable"));
   EXPECT_TRUE(fails_at("let a = [1, 2];\na[5]", 2, 2, "array index 5 out of bounds (length 2)"));
   EXPECT_TRUE(fails_at("let a = 7 / 0;", 1, 11, "integer division by zero"));

@@ -169,6 +169,9 @@ TEST(RhaiLanguage, MethodCallsOnExpressionsAndNumbers) {
   EXPECT_TRUE(script_matches("fn twice(e, k) { e * k } x.twice(3)", [](Graph& g) { return g.x() * 3.0f; }));
   EXPECT_TRUE(script_matches("(x + y).remap(y, x) + z.remap(x, y, x + 1)",
                              [](Graph& g) { return g.y() + g.x() + (g.x() + 1.0f); }));
+  // Older Fidget's name for the 3-axis form, as in its models/cabin.rhai.
+  EXPECT_TRUE(script_matches("(x - y).remap_xyz(x, z, y) + remap_xyz(z, y, x, 2)",
+                             [](Graph& g) { return (g.x() - g.z()) + 2.0f; }));
 }
 
 TEST(RhaiLanguage, ModOnExpressions) {
