@@ -3,6 +3,7 @@
 #include <cstdlib>
 
 #include "commands.hpp"
+#include "input.hpp"
 #include "frep/mesh/mesh_io.hpp"
 #include "frep/mesh/validate.hpp"
 
@@ -29,7 +30,7 @@ void register_check(CLI::App& app) {
   cmd->add_flag("--no-self-intersections", a->no_intersections, "Skip the self-intersection test");
   cmd->add_option("--threads", a->threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0, 1024));
   cmd->callback([a] {
-    const TriMesh mesh = read_mesh(a->file);
+    const TriMesh mesh = read_mesh_noting(a->file);
     ValidationOptions opt;
     opt.weld_tolerance = a->weld_tolerance;
     opt.self_intersections = !a->no_intersections;

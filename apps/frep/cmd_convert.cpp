@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "commands.hpp"
+#include "input.hpp"
 #include "frep/convert/convert.hpp"
 #include "frep/io/save.hpp"
 #include "frep/mesh/mesh_io.hpp"
@@ -41,7 +42,7 @@ void register_convert(CLI::App& app) {
   cmd->add_flag("--quiet,-q", a->quiet, "Print nothing but errors");
   cmd->callback([a] {
     check_expression_path(a->output);
-    const TriMesh mesh = read_mesh(a->mesh);
+    const TriMesh mesh = read_mesh_noting(a->mesh);
     ConvertOptions opt;
     opt.sign = a->sign == "tets" ? SignMode::Tetrahedra : SignMode::Pseudonormal;
     opt.weld_tolerance = a->weld_tolerance;

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "input.hpp"
 #include "frep/error.hpp"
 #include "frep/io/load.hpp"
 #include "frep/io/npy.hpp"
@@ -104,7 +105,7 @@ void register_sample(CLI::App& app) {
         fo.sign = a->sign == "winding" ? SignMethod::WindingNumber : SignMethod::Pseudonormal;
         fo.weld_tolerance = a->weld_tolerance;
         fo.threads = a->threads;
-        const MeshField field(read_mesh(a->input), fo);
+        const MeshField field(read_mesh_noting(a->input), fo);
         if (!field.solid() && !a->quiet)
           std::fprintf(stderr, "frep sample: %s: %s; signs from the winding number\n", a->input.c_str(),
                        field.summary().c_str());

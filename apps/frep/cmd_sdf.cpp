@@ -1,6 +1,7 @@
 #include <cstdio>
 
 #include "commands.hpp"
+#include "input.hpp"
 #include "frep/io/points.hpp"
 #include "frep/mesh/mesh_distance.hpp"
 #include "frep/mesh/mesh_io.hpp"
@@ -37,7 +38,7 @@ void register_sdf(CLI::App& app) {
         parse_points_f64(read_points_text(a->points), points_source_name(a->points), /*require_finite=*/true);
     MeshDistanceOptions opt;
     opt.weld_tolerance = a->weld_tolerance;
-    const MeshDistance md(read_mesh(a->file), opt);
+    const MeshDistance md(read_mesh_noting(a->file), opt);
     const std::size_t n = p.size();
     std::vector<double> d(n);
     if (a->unsigned_only) {

@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include "frep/convert/convert.hpp"
+#include "frep/mesh/mesh_io.hpp"
 
 namespace frep::cli {
 
@@ -10,10 +11,21 @@ Model load_input(const std::string& path, ConvertStats* stats) {
   ConvertStats s;
   Model m = load_field(path, {}, &s);
   if (stats) *stats = s;
+  print_read_warnings(path, s.read_warnings);
   if (s.triangles > 0)
     fmt::print(stderr, "frep: converted {} ({} triangles) to an expression of {} nodes in {:.2f} s\n", path,
                s.triangles, s.nodes, s.seconds);
   return m;
+}
+
+void print_read_warnings(const std::string& path, const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings) fmt::print(stderr, "frep: warning: {}: {}\n", path, w);
+}
+
+TriMesh read_mesh_noting(const std::string& path) {
+  TriMesh mesh = read_mesh(path);
+  print_read_warnings(path, mesh.warnings);
+  return mesh;
 }
 
 void warn_unresolved(std::size_t unresolved) {

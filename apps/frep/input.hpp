@@ -7,6 +7,7 @@
 
 #include "frep/convert/convert.hpp"
 #include "frep/expr/model.hpp"
+#include "frep/mesh/mesh.hpp"
 
 namespace frep::cli {
 
@@ -23,6 +24,12 @@ inline double lipschitz_of(const Model& m, double option) { return option >= 0 ?
 // A warning on stderr when dual contouring could not untangle some vertices (MeshStats::unresolved):
 // the mesh is still closed and manifold, but its triangles cross there.
 void warn_unresolved(std::size_t unresolved);
+
+// Prints what a mesh reader tolerated (TriMesh::warnings) as "frep: warning: PATH: ..." lines.
+void print_read_warnings(const std::string& path, const std::vector<std::string>& warnings);
+
+// read_mesh, then print_read_warnings: how commands read the meshes they are given.
+TriMesh read_mesh_noting(const std::string& path);
 
 // Help text for such an input argument.
 inline constexpr const char* kFieldInputHelp =

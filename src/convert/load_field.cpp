@@ -11,7 +11,10 @@ Model load_field(const std::string& path, const ConvertOptions& options, Convert
   const TriMesh mesh = read_mesh(path);
   try {
     ConvertResult r = convert_mesh(mesh, options);
-    if (stats) *stats = r.stats;
+    if (stats) {
+      *stats = r.stats;
+      stats->read_warnings = mesh.warnings;
+    }
     return std::move(r.model);
   } catch (const InputError& e) {
     // The converter sees a mesh, not a file: name the file here.

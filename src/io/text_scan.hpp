@@ -59,15 +59,17 @@ inline bool parse_int(std::string_view tok, std::int64_t& out) {
   return r.ec == std::errc() && r.ptr == e;
 }
 
-// Splits text into lines (LF, CRLF or CR-less), tracking 1-based line numbers and offsets.
+// Splits text into lines (LF, CRLF, or CR alone as old Mac files have when the text holds no LF),
+// tracking 1-based line numbers and offsets.
 class LineCursor {
  public:
-  explicit LineCursor(std::string_view text) : text_(text) {}
+  explicit LineCursor(std::string_view text)
+      : text_(text), eol_(text.find('\n') == std::string_view::npos && text.find('\r') != std::string_view::npos ? '\r' : '\n') {}
   // Next line without its terminator; false at end of input.
   bool next(std::string_view& line) {
     if (pos_ >= text_.size()) return false;
     line_start_ = pos_;
-    std::size_t eol = text_.find('\n', pos_);
+    std::size_t eol = text_.find(eol_, pos_);
     if (eol == std::string_view::npos) eol = text_.size();
     line = text_.substr(pos_, eol - pos_);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
@@ -81,6 +83,7 @@ class LineCursor {
 
  private:
   std::string_view text_;
+  char eol_;
   std::size_t pos_ = 0, line_start_ = 0;
   std::uint64_t line_no_ = 0;
 };
@@ -111,27 +114,36 @@ class TokenCursor {
   explicit TokenCursor(std::string_view text, std::size_t pos = 0, std::uint64_t line = 1)
       : text_(text), pos_(pos), line_(line), tok_line_(line) {}
   bool next(std::string_view& tok) {
-    for (;;) {
-      while (pos_ < text_.size() && (is_space(text_[pos_]) || text_[pos_] == '\n')) {
-        if (text_[pos_] == '\n') ++line_;
-        ++pos_;
-      }
-      if (pos_ >= text_.size()) return false;
-      std::size_t b = pos_;
-      while (pos_ < text_.size() && !is_space(text_[pos_]) && text_[pos_] != '\n') ++pos_;
-      tok = text_.substr(b, pos_ - b);
-      tok_line_ = line_;
-      return true;
+    while (pos_ < text_.size() && (is_space(text_[pos_]) || text_[pos_] == '\n')) {
+      if (ends_line(pos_)) ++line_;
+      ++pos_;
     }
+    if (pos_ >= text_.size()) return false;
+    std::size_t b = pos_;
+    while (pos_ < text_.size() && !is_space(text_[pos_]) && text_[pos_] != '\n') ++pos_;
+    tok = text_.substr(b, pos_ - b);
+    tok_line_ = line_;
+    return true;
   }
   // Skips to the start of the next line (the rest of this one is free text, e.g. a solid name).
   void skip_line() {
-    while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
+    while (pos_ < text_.size() && !ends_line(pos_)) ++pos_;
+  }
+  // True when another token follows on the line of the last one.
+  bool more_on_line() const {
+    for (std::size_t p = pos_; p < text_.size() && !ends_line(p); ++p)
+      if (!is_space(text_[p])) return true;
+    return false;
   }
   std::uint64_t line() const { return tok_line_; }
   std::size_t pos() const { return pos_; }
 
  private:
+  // A line ends at LF, or at a CR that no LF follows (old Mac files).
+  bool ends_line(std::size_t p) const {
+    return text_[p] == '\n' || (text_[p] == '\r' && (p + 1 == text_.size() || text_[p + 1] != '\n'));
+  }
+
   std::string_view text_;
   std::size_t pos_ = 0;
   std::uint64_t line_ = 1, tok_line_ = 1;

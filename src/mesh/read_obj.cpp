@@ -65,6 +65,12 @@ TriMesh read_obj(std::string_view bytes, const std::string& name) {
           throw InputError(name, line_no, "bad vertex coordinate '" + printable(tok) + "'");
         if (!std::isfinite(p[c])) throw InputError(name, line_no, "vertex coordinate is not a finite number");
       }
+      // What may follow: w, or a colour (r g b), as numbers.
+      for (std::string_view tok; tokens.next(tok);) {
+        double extra;
+        if (!parse_double(tok, extra))
+          throw InputError(name, line_no, "unexpected '" + printable(tok) + "' after the vertex coordinates");
+      }
       if (m.vertices.size() >= 0xffffffffu) throw InputError(name, line_no, "too many vertices");
       m.vertices.push_back(p);
     } else if (kw == "f" || kw == "fo") {

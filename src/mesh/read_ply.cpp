@@ -39,6 +39,33 @@ std::size_t type_size(Type t) {
 
 bool is_integer(Type t) { return t != Type::F32 && t != Type::F64; }
 
+const char* type_name(Type t) {
+  switch (t) {
+    case Type::I8: return "char";
+    case Type::U8: return "uchar";
+    case Type::I16: return "short";
+    case Type::U16: return "ushort";
+    case Type::I32: return "int";
+    case Type::U32: return "uint";
+    case Type::F32: return "float";
+    case Type::F64: return "double";
+  }
+  return "?";
+}
+
+// Whether an ASCII integer is in the range of its declared type (binary values always are).
+bool fits(Type t, std::int64_t v) {
+  switch (t) {
+    case Type::I8: return v >= -128 && v <= 127;
+    case Type::U8: return v >= 0 && v <= 255;
+    case Type::I16: return v >= -32768 && v <= 32767;
+    case Type::U16: return v >= 0 && v <= 65535;
+    case Type::I32: return v >= INT32_MIN && v <= INT32_MAX;
+    case Type::U32: return v >= 0 && v <= UINT32_MAX;
+    default: return true;
+  }
+}
+
 struct Property {
   std::string name;
   Type type = Type::F32;
@@ -69,6 +96,8 @@ class Reader {
       if (is_integer(t)) {
         std::int64_t i;
         if (!parse_int(tok, i)) throw InputError(name_, tokens_.line(), "bad integer '" + printable(tok) + "'");
+        if (!fits(t, i))
+          throw InputError(name_, tokens_.line(), "integer " + printable(tok) + " does not fit the property's type " + type_name(t));
         return static_cast<double>(i);
       }
       double d;
@@ -102,6 +131,25 @@ class Reader {
     return b_.size() - (enc_ == Encoding::Ascii ? std::min(tokens_.pos(), b_.size()) : pos_);
   }
   [[noreturn]] void fail(const std::string& msg) const { throw InputError(name_, line(), msg, offset()); }
+
+  // ASCII PLY writes each entry of an element on a line of its own: check that the entry just
+  // read, which began on line `first`, neither ran onto another line nor left values behind, so
+  // that a miscounted line is reported where it is instead of shifting everything after it.
+  void end_entry(std::uint64_t first, const std::string& element) const {
+    if (enc_ != Encoding::Ascii) return;
+    if (tokens_.line() != first)
+      throw InputError(name_, first, "entry of element '" + printable(element) + "' has fewer values than its " +
+                                         "properties declare (it runs on to line " + std::to_string(tokens_.line()) + ")");
+    if (tokens_.more_on_line())
+      throw InputError(name_, first, "entry of element '" + printable(element) + "' has more values than its properties declare");
+  }
+  // The line the next value is on (ASCII), found without consuming it.
+  std::uint64_t next_line() const {
+    if (enc_ != Encoding::Ascii) return 0;
+    TokenCursor peek = tokens_;
+    std::string_view tok;
+    return peek.next(tok) ? peek.line() : tokens_.line();
+  }
   [[noreturn]] void fail_end() const {
     throw InputError(name_, line(), "PLY data ends early (truncated file?)", enc_ == Encoding::Ascii ? 0 : pos_);
   }
@@ -155,6 +203,9 @@ TriMesh read_ply(std::string_view bytes, const std::string& name) {
       else if (f == "binary_little_endian") enc = Encoding::BinaryLE;
       else if (f == "binary_big_endian") enc = Encoding::BinaryBE;
       else throw InputError(name, ln, "unknown PLY format '" + printable(f) + "'");
+      std::string_view version;
+      if (!t.next(version) || version != "1.0")
+        throw InputError(name, ln, "PLY format version '" + printable(version) + "' is not supported (only 1.0)");
       have_format = true;
     } else if (kw == "element") {
       Element e;
@@ -231,6 +282,7 @@ TriMesh read_ply(std::string_view bytes, const std::string& name) {
           throw InputError(name, e.line, std::string("vertex element has no '") + char('x' + c) + "' property");
       m.vertices.reserve(e.count);
       for (std::uint64_t v = 0; v < e.count; ++v) {
+        const std::uint64_t first = r.next_line();
         Vec3 p;
         for (std::size_t i = 0; i < e.props.size(); ++i) {
           const Property& pr = e.props[i];
@@ -241,13 +293,14 @@ TriMesh read_ply(std::string_view bytes, const std::string& name) {
           }
           const std::uint64_t off = r.offset();  // binary: where the value starts
           const double val = r.value(pr.type);
-          const std::uint64_t ln = r.line();  // ASCII: the line of the token just read
+          const std::uint64_t ln = r.next_line();  // the line of the list, not of the value before it  // ASCII: the line of the token just read
           for (int c = 0; c < 3; ++c)
             if (axis[c] == int(i)) {
               if (!std::isfinite(val)) throw InputError(name, ln, "vertex coordinate is not a finite number", off);
               p[c] = val;
             }
         }
+        r.end_entry(first, e.name);
         m.vertices.push_back(p);
       }
     } else if (e.name == "face" || e.name == "tristrips") {
@@ -258,13 +311,14 @@ TriMesh read_ply(std::string_view bytes, const std::string& name) {
           idx = int(i);
       if (idx < 0) throw InputError(name, e.line, "element '" + e.name + "' has no 'vertex_indices' list");
       for (std::uint64_t f = 0; f < e.count; ++f) {
+        const std::uint64_t first = r.next_line();
         for (std::size_t i = 0; i < e.props.size(); ++i) {
           const Property& pr = e.props[i];
           if (!pr.is_list) {
             r.value(pr.type);
             continue;
           }
-          const std::uint64_t ln = r.line();
+          const std::uint64_t ln = r.next_line();  // the line of the list, not of the value before it
           const std::uint64_t n = list_length(r, pr.count_type);
           if (enc != Encoding::Ascii && n * type_size(pr.type) > r.remaining()) r.fail_end();
           if (int(i) != idx) {
@@ -300,19 +354,26 @@ TriMesh read_ply(std::string_view bytes, const std::string& name) {
           if (strips) {
             flush_strip();
           } else {
+            if (poly.size() < 3)
+              throw InputError(name, ln, "face " + std::to_string(face) + " has " + std::to_string(poly.size()) +
+                                             " vertex indices (a face needs at least 3)", r.offset());
             for (std::size_t k = 1; k + 1 < poly.size(); ++k)
               m.add_triangle(poly[0], poly[k], poly[k + 1], face, static_cast<std::uint32_t>(ln));
           }
           ++face;
         }
+        r.end_entry(first, e.name);
       }
     } else {
-      for (std::uint64_t f = 0; f < e.count; ++f)
+      for (std::uint64_t f = 0; f < e.count; ++f) {
+        const std::uint64_t first = r.next_line();
         for (const Property& pr : e.props) {
           const std::uint64_t n = pr.is_list ? list_length(r, pr.count_type) : 1;
           if (enc != Encoding::Ascii && n * type_size(pr.type) > r.remaining()) r.fail_end();
           for (std::uint64_t k = 0; k < n; ++k) r.value(pr.type);
         }
+        r.end_entry(first, e.name);
+      }
     }
   }
   if (m.triangles.empty()) throw InputError(name, 0, "PLY file has no faces");

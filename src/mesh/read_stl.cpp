@@ -39,19 +39,27 @@ TriMesh read_binary(std::string_view b, const std::string& name) {
   const std::uint64_t declared = load_u32le(b.data() + 80);
   const std::uint64_t body = b.size() - kHeader;
   std::uint64_t n = declared;
+  TriMesh m;
   if (kHeader + kFacet * declared != b.size()) {
     if (body % kFacet == 0) {
-      n = body / kFacet;  // the count field lies; the size is consistent with whole facets
+      // The count field lies (some exporters write 0) or the file lost whole triangles at its
+      // end: the size is consistent with whole facets, so read them all, and say so.
+      n = body / kFacet;
+      m.warnings.push_back("binary STL header declares " + std::to_string(declared) + " triangles but the file holds " +
+                           std::to_string(n) + (n < declared ? " (truncated file?)" : "") + "; read " +
+                           std::to_string(n));
     } else if (body / kFacet < declared) {
       throw InputError(name, 0,
                        "binary STL truncated: header declares " + std::to_string(declared) +
                            " triangles but the file ends inside triangle " + std::to_string(body / kFacet),
                        kHeader + kFacet * (body / kFacet));
+    } else {
+      // Trailing bytes after the declared facets (some exporters pad): ignored.
+      m.warnings.push_back(std::to_string(body - kFacet * declared) + " bytes after the " + std::to_string(declared) +
+                           " triangles the header declares were ignored");
     }
-    // else: trailing bytes after the declared facets (some exporters pad); they are ignored.
   }
   if (n == 0) throw InputError(name, 0, "binary STL has no triangles", 80);
-  TriMesh m;
   m.indexed = false;
   m.name = name;
   m.vertices.reserve(3 * n);
@@ -89,6 +97,7 @@ TriMesh read_ascii(std::string_view b, const std::string& name) {
                        "expected '" + std::string(word) + "', found '" + printable(tok) + "'");
   };
   bool in_solid = false;
+  std::uint32_t polygons = 0;
   while (cur.next(tok)) {
     if (iequals(tok, "solid")) {
       cur.skip_line();  // the rest of the line is the solid's name
@@ -133,11 +142,15 @@ TriMesh read_ascii(std::string_view b, const std::string& name) {
       throw InputError(name, facet_line, "facet with " + std::to_string(loop.size()) + " vertices");
     const auto base = static_cast<std::uint32_t>(m.vertices.size());
     for (const Vec3& p : loop) m.vertices.push_back(p);
-    for (std::uint32_t k = 1; k + 1 < loop.size(); ++k)  // fan: polygons in STL are rare but legal
+    polygons += loop.size() > 3;
+    for (std::uint32_t k = 1; k + 1 < loop.size(); ++k)  // fan: polygons are not STL, but some writers emit them
       m.add_triangle(base, base + k, base + k + 1, facet, static_cast<std::uint32_t>(facet_line));
     ++facet;
   }
   if (m.triangles.empty()) throw InputError(name, cur.line(), "ASCII STL has no facets");
+  if (in_solid) m.warnings.push_back("ASCII STL ends without 'endsolid' (truncated file?)");
+  if (polygons > 0)
+    m.warnings.push_back(std::to_string(polygons) + " facets have more than 3 vertices (not STL); they were split into triangles");
   return m;
 }
 

@@ -297,6 +297,27 @@ TEST_F(Cli, FailedRenderKeepsAnExistingOutputIntact) {
   EXPECT_EQ(test::read_text(png), "original");
 }
 
+// What a mesh reader tolerates is said on stderr, naming the file, by every command that reads
+// the mesh: here an ASCII STL cut between two facets (no 'endsolid').
+TEST_F(Cli, MeshReaderWarningsReachTheUser) {
+  std::string stl = "solid cut\n";
+  const char* tris[4][3] = {{"0 0 0", "0 1 0", "1 0 0"}, {"0 0 0", "1 0 0", "0 0 1"},
+                            {"0 0 0", "0 0 1", "0 1 0"}, {"1 0 0", "0 1 0", "0 0 1"}};
+  for (const auto& t : tris) {
+    stl += "facet normal 0 0 0\nouter loop\n";
+    for (const char* v : t) stl += std::string("vertex ") + v + "\n";
+    stl += "endloop\nendfacet\n";
+  }
+  write("cut.stl", stl);
+  const std::string file = test::shell_quote(path("cut.stl"));
+  const std::string warning = "frep: warning: " + path("cut.stl") + ": ASCII STL ends without 'endsolid' (truncated file?)";
+  for (const std::string& cmd : {"check " + file, "info " + file, "sample " + file + " --grid 4 -o " + test::shell_quote(path("c.npy"))}) {
+    const RunResult r = run(cmd);
+    EXPECT_EQ(r.code, 0) << cmd << "\n" << r.err;
+    EXPECT_NE(r.err.find(warning), std::string::npos) << cmd << "\n" << r.err;
+  }
+}
+
 }  // namespace
 }  // namespace frep
 

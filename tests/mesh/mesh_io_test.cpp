@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -48,6 +49,8 @@ TEST(MeshIo, BinaryStlWithSolidHeaderAndWrongCount) {
   // The count field says 7 but the size holds exactly 2 facets: trust the size.
   m = read_stl(binary_stl(tris, "solid part", 7), "b.stl");
   EXPECT_EQ(m.num_triangles(), 2u);
+  ASSERT_EQ(m.warnings.size(), 1u);  // ...and say so: the file may have lost triangles
+  EXPECT_EQ(m.warnings[0], "binary STL header declares 7 triangles but the file holds 2 (truncated file?); read 2");
   // Count 1 with trailing bytes that are not a whole facet: read the declared facet.
   std::string padded = binary_stl(tris, "x", 1) + "abc";
   EXPECT_EQ(read_stl(padded, "c.stl").num_triangles(), 1u);
@@ -267,6 +270,51 @@ TEST(MeshIoRegression, StlWriterRefusesWhatSinglePrecisionCannotHoldAndEmptyMesh
   EXPECT_NO_THROW(write_mesh_to_string(big, MeshFormat::Obj, false));  // OBJ and PLY keep doubles
   TriMesh empty;
   expect_input_error([&] { write_mesh_to_string(empty, MeshFormat::Ply, false); }, "no triangles");
+}
+
+// Variants that other tools write, and mistakes they make, found by generating every variant of
+// the formats' specifications: each is read, or refused where the mistake is, or read with a warning.
+TEST(MeshIoRegression, FormatVariantsAndMistakesOfOtherTools) {
+  const std::string tri_off = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  // OFF: the keyword is optional; ModelNet glues the counts to it; 4OFF is homogeneous; nOFF
+  // gives its dimension; plain OFF may put several vertices on a line.
+  EXPECT_EQ(read_off("3 1 0\n" + tri_off, "a.off").num_triangles(), 1u);
+  EXPECT_EQ(read_off("OFF3 1 0\n" + tri_off, "b.off").num_triangles(), 1u);
+  TriMesh h = read_off("4OFF\n3 1 0\n0 0 0 2\n4 0 0 2\n0 6 0 3\n3 0 1 2\n", "c.off");
+  EXPECT_EQ(h.vertices[1], (Vec3{2, 0, 0}));
+  EXPECT_EQ(h.vertices[2], (Vec3{0, 2, 0}));
+  EXPECT_EQ(read_off("nOFF\n3\n3 1 0\n" + tri_off, "d.off").num_triangles(), 1u);
+  TriMesh one_line = read_off("OFF\n3 1 0\n0 0 0 1 0 0 0 1 0\n3 0 1 2\n", "e.off");
+  EXPECT_EQ(one_line.vertices[2], (Vec3{0, 1, 0}));
+  expect_input_error([] { read_off("nOFF 4\n3 1 0\n0 0 0 0\n", "f.off"); }, "f.off:1: OFF variant 'nOFF' of dimension '4'");
+  expect_input_error([] { read_off("4OFF\n3 1 0\n0 0 0 0\n1 0 0 1\n0 1 0 1\n3 0 1 2\n", "g.off"); }, "g.off:3: vertex with homogeneous");
+  // Old Mac line endings (CR alone), in OBJ and in ASCII PLY.
+  EXPECT_EQ(read_obj("v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r", "h.obj").num_triangles(), 1u);
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                           "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  std::string cr = head + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  std::replace(cr.begin(), cr.end(), '\n', '\r');
+  EXPECT_EQ(read_ply(cr, "i.ply").num_triangles(), 1u);
+  // OBJ: a vertex line may end in w or a colour, not in anything else.
+  EXPECT_EQ(read_obj("v 0 0 0 1 0.5 0.5\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "j.obj").num_triangles(), 1u);
+  expect_input_error([] { read_obj("v 0 0 0 abc\n", "k.obj"); }, "k.obj:1: unexpected 'abc' after the vertex coordinates");
+  // ASCII PLY: one entry per line, so a miscounted line is reported where it is.
+  expect_input_error([&] { read_ply(head + "0 0 0 7\n1 0 0\n0 1 0\n3 0 1 2\n", "l.ply"); },
+                     "l.ply:10: entry of element 'vertex' has more values");
+  expect_input_error([&] { read_ply(head + "0 0 0\n1 0 0\n0 1 0\n4 0 1 2\n", "m.ply"); },
+                     "m.ply:13: PLY data ends early");
+  expect_input_error([&] { read_ply(head + "0 0 0\n1 0 0\n0 1 0\n2 0 1\n", "n.ply"); }, "n.ply:13: face 0 has 2 vertex indices");
+  expect_input_error([&] { read_ply(head + "0 0 0\n1 0 0\n0 1 0\n300 0 1 2\n", "o.ply"); }, "o.ply:13: integer 300 does not fit");
+  std::string v2 = head + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  v2.replace(v2.find("1.0"), 3, "2.0");
+  expect_input_error([&] { read_ply(v2, "p.ply"); }, "p.ply:2: PLY format version '2.0' is not supported");
+  // ASCII STL: a missing 'endsolid' (a file cut between facets) and polygons are read with warnings.
+  const std::string facet = "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n";
+  TriMesh cut = read_stl("solid t\n" + facet, "q.stl");
+  EXPECT_EQ(cut.num_triangles(), 1u);
+  ASSERT_EQ(cut.warnings.size(), 1u);
+  EXPECT_NE(cut.warnings[0].find("without 'endsolid'"), std::string::npos);
+  EXPECT_TRUE(read_stl("solid t\n" + facet + "endsolid t\n", "r.stl").warnings.empty());
 }
 
 TEST(MeshIoRegression, DevicesAreNotReadWhole) {

@@ -23,6 +23,7 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "frep/expr/model.hpp"
 #include "frep/mesh/mesh.hpp"
@@ -55,6 +56,7 @@ struct ConvertStats {
   std::size_t nodes = 0;           // nodes of the expression
   double seconds = 0;              // wall time of the conversion, check included
   Box3 box;                        // bounding box of the triangles' corners (the solid's extent)
+  std::vector<std::string> read_warnings;  // load_field: what the mesh reader tolerated (TriMesh::warnings)
 };
 
 struct ConvertResult {

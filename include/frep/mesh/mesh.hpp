@@ -31,6 +31,9 @@ struct TriMesh {
   bool indexed = true;
   // Name of the file it was read from, for messages (may be empty).
   std::string name;
+  // What the reader tolerated and the user should know (a binary STL's wrong triangle count, a
+  // missing 'endsolid'), one sentence each, without the file name.
+  std::vector<std::string> warnings;
 
   std::size_t num_vertices() const { return vertices.size(); }
   std::size_t num_triangles() const { return triangles.size(); }
