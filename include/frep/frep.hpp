@@ -5,6 +5,7 @@
 #include "frep/math/vec.hpp"
 #include "frep/math/morton.hpp"
 #include "frep/util/large_allocator.hpp"
+#include "frep/util/memory_budget.hpp"
 #include "frep/util/thread_pool.hpp"
 
 #include "frep/expr/opcode.hpp"

@@ -4,6 +4,8 @@
 #include <bit>
 #include <cstdint>
 #include <cstring>
+#include <ostream>
+#include <algorithm>
 
 #include "frep/error.hpp"
 #include "frep/io/atomic_file.hpp"
@@ -34,7 +36,10 @@ void append_le32(std::string& out, const float* data, std::size_t n) {
 
 }  // namespace
 
-std::string npy_bytes(const float* data, const std::vector<std::size_t>& shape) {
+namespace {
+
+// Magic, version, header length and the header dictionary, padded to a multiple of 64 bytes.
+std::string npy_header(const std::vector<std::size_t>& shape) {
   // Python tuple syntax: a one-element tuple needs its trailing comma.
   std::string dict = "{'descr': '<f4', 'fortran_order': False, 'shape': (";
   for (std::size_t i = 0; i < shape.size(); ++i) dict += (i ? ", " : "") + std::to_string(shape[i]);
@@ -53,6 +58,13 @@ std::string npy_bytes(const float* data, const std::vector<std::size_t>& shape) 
   out += static_cast<char>(hl & 0xff);
   out += static_cast<char>(hl >> 8);
   out += dict;
+  return out;
+}
+
+}  // namespace
+
+std::string npy_bytes(const float* data, const std::vector<std::size_t>& shape) {
+  std::string out = npy_header(shape);
   const std::size_t n = element_count(shape);
   out.reserve(out.size() + 4 * n);
   append_le32(out, data, n);
@@ -60,7 +72,17 @@ std::string npy_bytes(const float* data, const std::vector<std::size_t>& shape) 
 }
 
 void write_npy(const std::string& path, const float* data, const std::vector<std::size_t>& shape) {
-  write_file_atomically(path, npy_bytes(data, shape));
+  // Streamed in pieces: a big grid is not copied whole into memory a second time.
+  write_file_atomically(path, [&](std::ostream& os) {
+    os << npy_header(shape);
+    const std::size_t n = element_count(shape), piece = std::size_t{1} << 20;
+    std::string buf;
+    for (std::size_t i = 0; i < n; i += piece) {
+      buf.clear();
+      append_le32(buf, data + i, std::min(piece, n - i));
+      os.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+    }
+  });
 }
 
 NpyArray parse_npy(std::string_view b, const std::string& name) {

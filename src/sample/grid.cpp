@@ -15,6 +15,7 @@
 #include "frep/eval/evaluators.hpp"
 #include "frep/eval/subdivision.hpp"
 #include "frep/sample/mesh_field.hpp"
+#include "frep/util/memory_budget.hpp"
 #include "frep/util/thread_pool.hpp"
 #include "sample/cpt.hpp"
 
@@ -47,6 +48,11 @@ Box3 default_mesh_bounds(const Box3& b, double margin) {
 
 namespace {
 
+std::string grid_job(const GridSpec& g) {
+  return "a grid of " + std::to_string(g.counts[0]) + " x " + std::to_string(g.counts[1]) + " x " +
+         std::to_string(g.counts[2]) + " samples";
+}
+
 template <class T>
 std::vector<T> sample_mesh(const MeshField& field, const GridSpec& grid, const MeshGridOptions& o, MeshGridStats* st) {
   grid.check();
@@ -61,6 +67,9 @@ std::vector<T> sample_mesh(const MeshField& field, const GridSpec& grid, const M
                          ? "the closest point transform needs grid bounds that contain the mesh"
                          : "the closest point transform needs a valid solid with pseudonormal signs (" +
                                field.summary() + ")");
+  // The output, and the transform's nearest squared distance (double) and owner per sample.
+  const std::uint64_t per_sample = sizeof(T) + (stats.method == MeshGridMethod::Cpt ? 12 : 0);
+  require_memory(grid.size() * per_sample, grid_job(grid), "sample a smaller grid");
   std::vector<T> out(grid.size());
   ThreadPool pool(o.threads);
   if (stats.method == MeshGridMethod::Cpt) {
@@ -107,6 +116,7 @@ std::vector<float> sample_grid(const Tape& tape, const GridSpec& grid, const Exp
     coords[a].resize(static_cast<std::size_t>(grid.counts[a]));
     for (int i = 0; i < grid.counts[a]; ++i) coords[a][static_cast<std::size_t>(i)] = static_cast<float>(grid.coord(a, i));
   }
+  require_memory(grid.size() * sizeof(float), grid_job(grid), "sample a smaller grid");
   std::vector<float> out(grid.size());
   SampleGrid sg;
   sg.coords = std::move(coords);

@@ -8,6 +8,7 @@
 #include "frep/error.hpp"
 #include "frep/eval/point_cloud.hpp"
 #include "frep/sample/mesh_field.hpp"
+#include "frep/util/memory_budget.hpp"
 #include "frep/util/thread_pool.hpp"
 
 namespace frep {
@@ -75,6 +76,12 @@ void set_point(std::vector<float>& rows, std::size_t i, const Vec3& p) {
   rows[4 * i] = static_cast<float>(p.x), rows[4 * i + 1] = static_cast<float>(p.y), rows[4 * i + 2] = static_cast<float>(p.z);
 }
 
+// Refuses a point count whose rows (16 bytes each) and scratch would not fit in memory.
+void check_count(std::size_t count, std::uint64_t bytes_per_point) {
+  require_memory(static_cast<std::uint64_t>(count) * bytes_per_point, "sampling " + std::to_string(count) + " points",
+                 "sample fewer points");
+}
+
 std::vector<float> uniform_rows(const Box3& b, std::size_t count, std::uint64_t seed) {
   check_box(b);
   std::vector<float> rows(4 * count);
@@ -89,6 +96,7 @@ std::vector<float> uniform_rows(const Box3& b, std::size_t count, std::uint64_t 
 
 std::vector<float> sample_uniform(const MeshField& field, const Box3& bounds, std::size_t count,
                                   const PointSampleOptions& o) {
+  check_count(count, 16);
   std::vector<float> rows = uniform_rows(bounds, count, o.seed);
   mesh_distances(field, rows, o.threads);
   return rows;
@@ -97,6 +105,7 @@ std::vector<float> sample_uniform(const MeshField& field, const Box3& bounds, st
 std::vector<float> sample_near_surface(const MeshField& field, std::size_t count, double sigma,
                                        const PointSampleOptions& o) {
   check_sigma(sigma);
+  check_count(count, 16);
   const TriMesh& m = field.welded();
   // Cumulative areas of the triangles: a uniform draw over the total picks one by area.
   std::vector<double> cum(m.triangles.size());
@@ -125,6 +134,7 @@ std::vector<float> sample_near_surface(const MeshField& field, std::size_t count
 
 std::vector<float> sample_uniform(const Tape& tape, const Box3& bounds, std::size_t count,
                                   const PointSampleOptions& o) {
+  check_count(count, 32);  // rows, and the evaluator's coordinate and value columns
   std::vector<float> rows = uniform_rows(bounds, count, o.seed);
   tape_distances(tape, rows, o.threads);
   return rows;
@@ -133,6 +143,7 @@ std::vector<float> sample_uniform(const Tape& tape, const Box3& bounds, std::siz
 std::vector<float> sample_near_surface(const Tape& tape, const Box3& bounds, std::size_t count, double sigma,
                                        const PointSampleOptions& o) {
   check_sigma(sigma);
+  check_count(count, 32);
   check_box(bounds);
   const float tol = static_cast<float>(1e-6 * length(bounds.size()));
   PointCloudOptions po;

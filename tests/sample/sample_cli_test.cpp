@@ -175,6 +175,15 @@ TEST_F(SampleCommand, Errors) {
   r = run("sample '" + garbage + "' --grid 4 -o '" + out + "'");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find(garbage), std::string::npos) << r.err;
+  // Sizes no machine holds are refused before any work, saying how much memory they need.
+  for (const char* big : {"--grid 4096", "--points 4000000000000", "--points 1 --near-surface 4000000000000 --sigma 0.1"}) {
+    r = run("sample " + b + " " + big + " -o '" + out + "'");
+    EXPECT_EQ(r.code, 1) << big << ": " << r.err;
+    EXPECT_NE(r.err.find("GB of memory, more than this machine's"), std::string::npos) << big << ": " << r.err;
+  }
+  r = run("sample '" + ball + "' --grid 4096 -o '" + out + "'");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find(ball + ": a grid of 4096 x 4096 x 4096 samples needs about 274.9 GB"), std::string::npos) << r.err;
   r = run("sample " + b + " --grid 4 -o '" + path("no/such/dir/out.npy") + "'");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("no/such/dir/out.npy"), std::string::npos) << r.err;
