@@ -317,9 +317,17 @@ double find_reach(const Context& ctx, const Shape& s) {
         empty = true;
     }
     if (empty) break;
+    // An owned point at distance t from the feature lies in its polyhedron, so its height above
+    // the feature along the axis is between t cos(spread) and t: the shell is a slab along `dir`.
+    const double ball = rho + ctx.cell_r + tol;
+    const double slab_lo = t0 * std::cos(s.spread) - ctx.cell_r - tol, slab_hi = t1 + ctx.cell_r + tol;
     const auto passes = [&](int a, int b, int c) {
       const Vec3 cc = ctx.cell_center(a, b, c);
-      if (length(cc - center) > rho + ctx.cell_r + tol) return false;
+      if (length(cc - center) > ball) return false;
+      if (!s.wide) {
+        const double u = dot(cc - s.anchor, s.dir);
+        if (u < slab_lo || u > slab_hi) return false;
+      }
       // Points at distance >= t0 from the feature are at least t0 - base from its anchor.
       if (length(cc - s.anchor) < t0 - s.base - ctx.cell_r - tol) return false;
       return s.lower(cc) <= ctx.cell_distance(a, b, c) + 2 * ctx.cell_r + tol;
@@ -339,10 +347,28 @@ double find_reach(const Context& ctx, const Shape& s) {
         relevant = passes(cell[0], cell[1], cell[2]);
       }
     }
+    // The whole box otherwise, each row of cells cut to the ball and the slab first (the cuts are
+    // widened by a cell; `passes` decides).
+    const double z_origin = gb.lo[2] + 0.5 * (kCell - 1) * ctx.h[2], z_size = kCell * ctx.h[2];
+    const auto cell_of_z = [&](double z) { return (z - z_origin) / z_size; };
     for (int a = lo[0]; a <= hi[0] && !relevant; ++a)
-      for (int b = lo[1]; b <= hi[1] && !relevant; ++b)
-        for (int c = lo[2]; c <= hi[2] && !relevant; ++c)
+      for (int b = lo[1]; b <= hi[1] && !relevant; ++b) {
+        const Vec3 row = ctx.cell_center(a, b, 0);
+        const double dx = row.x - center.x, dy = row.y - center.y, r2 = ball * ball - dx * dx - dy * dy;
+        if (r2 < 0) continue;
+        double zl = center.z - std::sqrt(r2), zu = center.z + std::sqrt(r2);
+        if (!s.wide && std::fabs(s.dir.z) > 1e-6) {
+          const double w = (row.x - s.anchor.x) * s.dir.x + (row.y - s.anchor.y) * s.dir.y;
+          double z0 = s.anchor.z + (slab_lo - w) / s.dir.z, z1 = s.anchor.z + (slab_hi - w) / s.dir.z;
+          if (z0 > z1) std::swap(z0, z1);
+          zl = std::max(zl, z0), zu = std::min(zu, z1);
+        }
+        if (!(zl <= zu)) continue;
+        const int c0 = std::max(lo[2], static_cast<int>(std::floor(cell_of_z(zl))) - 1);
+        const int c1 = std::min(hi[2], static_cast<int>(std::ceil(cell_of_z(zu))) + 1);
+        for (int c = c0; c <= c1 && !relevant; ++c)
           if (passes(a, b, c)) relevant = true, hint[0] = a, hint[1] = b, hint[2] = c;
+      }
     if (!relevant) break;
     reach = t1;
   }
