@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "frep/io/atomic_file.hpp"
 #include "run.hpp"
 
 int main(int argc, char** argv) {
@@ -9,5 +10,6 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "frep 0.1.0");
   frep::cli::register_commands(app);
+  frep::remove_temporary_files_on_signals();
   return frep::cli::run(app, argc, argv);
 }

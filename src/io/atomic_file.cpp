@@ -3,7 +3,9 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -15,12 +17,62 @@
 
 namespace frep {
 
+namespace {
+
+// The temporary file being written, for the signal handler (one write at a time per process;
+// the handler reads it without locks, as async-signal-safe code must).
+char g_temporary[4096];
+std::atomic<bool> g_writing{false};
+
+void remove_and_die(int sig) {
+  if (g_writing.load()) ::unlink(g_temporary);
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
+
+// What `path` names once symbolic links are followed (a dangling link names its target), so that
+// writing through a link replaces the file it points to and keeps the link.
+std::filesystem::path resolve_links(const std::string& path) {
+  namespace fs = std::filesystem;
+  fs::path p = path;
+  std::error_code ec;
+  for (int hops = 0; hops < 40 && fs::is_symlink(p, ec); ++hops) {
+    const fs::path to = fs::read_symlink(p, ec);
+    if (ec) break;
+    p = to.is_absolute() ? to : p.parent_path() / to;
+  }
+  return p;
+}
+
+}  // namespace
+
+void remove_temporary_files_on_signals() {
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, remove_and_die);
+}
+
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& produce) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw InputError(path, 0, "cannot write: it is a directory");
+  const fs::path target = resolve_links(path);
+  const fs::file_status st = fs::status(target, ec);
+  if (fs::exists(st) && !fs::is_regular_file(st)) {
+    // A device, pipe or socket (/dev/null, /dev/stdout): written in place, since renaming a file
+    // over it would replace it (for everyone, when it is /dev/null and we are root).
+    std::ofstream out(target, std::ios::binary);
+    if (!out) throw InputError(path, 0, std::string("cannot open for writing: ") + std::strerror(errno));
+    produce(out);
+    out.flush();
+    if (!out) throw InputError(path, 0, "write failed");
+    return;
+  }
   std::random_device rd;
-  const std::string tmp = path + ".tmp" + std::to_string(::getpid()) + "." + std::to_string(rd() % 1000000);
+  const std::string tmp = target.string() + ".tmp" + std::to_string(::getpid()) + "." + std::to_string(rd() % 1000000);
+  const bool track = tmp.size() < sizeof g_temporary && !g_writing.load();
+  if (track) {
+    std::memcpy(g_temporary, tmp.c_str(), tmp.size() + 1);
+    g_writing.store(true);
+  }
   try {
     {
       std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
@@ -29,17 +81,21 @@ void write_file_atomically(const std::string& path, const std::function<void(std
       out.flush();
       if (!out) throw InputError(path, 0, "write failed (disk full?)");
     }
+    // A file that is replaced keeps its permissions.
+    if (fs::exists(st)) fs::permissions(tmp, st.permissions(), ec);
     int fd = ::open(tmp.c_str(), O_RDONLY);
     if (fd >= 0) {
       ::fsync(fd);
       ::close(fd);
     }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    if (std::rename(tmp.c_str(), target.c_str()) != 0)
       throw InputError(path, 0, std::string("cannot rename temporary file: ") + std::strerror(errno));
   } catch (...) {
     std::remove(tmp.c_str());
+    if (track) g_writing.store(false);
     throw;
   }
+  if (track) g_writing.store(false);
 }
 
 void write_file_atomically(const std::string& path, std::string_view bytes) {

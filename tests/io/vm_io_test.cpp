@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "frep/error.hpp"
+#include "frep/io/atomic_file.hpp"
 #include "frep/expr/expr.hpp"
 #include "frep/io/load.hpp"
 #include "frep/io/rhai.hpp"
@@ -147,6 +148,31 @@ TEST(VmWrite, SaveIsAtomicAndFailsCleanly) {
   int leftovers = 0;
   for (const auto& e : fs::directory_iterator(dir)) leftovers += e.path().filename() != "out.vm";
   EXPECT_EQ(leftovers, 0) << "temporary files left behind";
+  fs::remove_all(dir);
+}
+
+// Writing through a symbolic link replaces the file it names and keeps the link; a device such as
+// /dev/null is written in place, never replaced by a regular file; a replaced file keeps its mode.
+TEST(AtomicWrite, FollowsLinksWritesDevicesInPlaceAndKeepsModes) {
+  const fs::path dir = fs::temp_directory_path() / ("frep_atomic_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path target = dir / "target.txt", link = dir / "link.txt", dangling = dir / "dangling.txt";
+  { std::ofstream(target) << "old"; }
+  fs::permissions(target, fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+  fs::create_symlink("target.txt", link);
+  fs::create_symlink("made.txt", dangling);
+  write_file_atomically(link.string(), std::string_view("new"));
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_EQ(read_file(target.string()), "new");
+  EXPECT_EQ(fs::status(target).permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+  write_file_atomically(dangling.string(), std::string_view("made"));
+  EXPECT_TRUE(fs::is_symlink(dangling));
+  EXPECT_EQ(read_file((dir / "made.txt").string()), "made");
+  EXPECT_NO_THROW(write_file_atomically("/dev/null", std::string_view("nothing")));
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  const auto entries = std::distance(fs::directory_iterator(dir), fs::directory_iterator());
+  EXPECT_EQ(entries, 4) << "temporary files left behind";
   fs::remove_all(dir);
 }
 

@@ -10,9 +10,15 @@
 namespace frep {
 
 // Calls `produce` with a stream to the temporary file, flushes, fsyncs and renames it to `path`.
-// Throws InputError naming `path` if it cannot be written; the temporary file is removed.
+// Throws InputError naming `path` if it cannot be written; the temporary file is removed. A
+// symbolic link is followed (the file it names is replaced, the link stays); a device, pipe or
+// socket (/dev/null) is written in place. A replaced file keeps its permissions.
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& produce);
 void write_file_atomically(const std::string& path, std::string_view bytes);
+
+// Makes SIGINT, SIGTERM and SIGHUP remove the temporary file being written before the process
+// dies as the signal would (for programs: an interrupted conversion leaves no 150 MB leftover).
+void remove_temporary_files_on_signals();
 
 // Checks, before long work, that `path` could be written: its directory exists and is writable.
 // Throws InputError naming `path` otherwise.
