@@ -321,6 +321,38 @@ DepthMap Renderer3D::render(const Tape& model) {
   } visitor{*this, st, steps};
   subdivider_->run(tape, grid, visitor);
 
+  // A box settled inside by a Lipschitz bound leaves its first sample's crossing to the box in
+  // front, which evaluates that sample; on the surface itself the two can disagree by a rounding
+  // (the bound says inside, the evaluator says +0). Such pixels are refined here, in the sample
+  // step before the first inside sample, with the whole tape.
+  {
+    Worker& w = *workers_[0];
+    Refiner& rf = w.refiner;
+    w.hit_pixel.clear();
+    for (std::uint32_t p = 0; p < pixels; ++p)
+      if (st.best[p] != kNone && st.key[p] == kNoKey) {
+        if (st.best[p] == 0) st.write(p, 0, st.ws[0], kFacingViewer);
+        else w.hit_pixel.push_back(p);
+      }
+    const std::size_t n = w.hit_pixel.size();
+    if (n > 0) {
+      rf.resize(n);
+      if (w.normals.size() < n) w.normals.resize(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t p = w.hit_pixel[i];
+        const auto s = static_cast<std::size_t>(st.best[p]);
+        rf.us[i] = st.uc[p % static_cast<std::uint32_t>(st.width)];
+        rf.vs[i] = st.vc[p / static_cast<std::uint32_t>(st.width)];
+        rf.a[i] = st.ws[s - 1];
+        rf.b[i] = st.ws[s];
+        rf.fb[i] = std::numeric_limits<float>::quiet_NaN();  // not known to be negative: no interpolation
+      }
+      rf.locate(tape, n, steps, w.normals.data());
+      for (std::size_t i = 0; i < n; ++i)
+        st.write(w.hit_pixel[i], 2 * static_cast<std::uint32_t>(st.best[w.hit_pixel[i]]), rf.ws[i], w.normals[i]);
+    }
+  }
+
   DepthMap out;
   out.camera = cam;
   for (std::size_t p = 0; p < pixels; ++p)

@@ -321,6 +321,25 @@ TEST(Render3D, LipschitzBoundOnExactDistancesEqualsBruteForce) {
   expect_equals_brute_force(sphere_tape(g, {0.1, -0.2, 0.05}, 0.6), o, true, "sphere");
 }
 
+// A Lipschitz bound the field breaks (a user's wrong --lipschitz, or an exact distance whose
+// float evaluation flips a sign) settles boxes inside whose front neighbours find no crossing:
+// the picture may be wrong, but every pixel with an inside sample still gets a depth, and the
+// render does not stop with an internal error (it did, on `frep shell` output of a CAD plate).
+TEST(Render3D, ABrokenLipschitzBoundGivesAPictureNotAnInternalError) {
+  Graph g;
+  const Expr x = g.x(), y = g.y(), z = g.z();
+  const Expr r = sqrt(square(x) + square(y) + square(z)) - 0.5f;
+  const Expr f = sin(r * 20.0f) * 20.0f + r;  // slopes up to about 400
+  const Tape t = Tape::compile(g, f.id());
+  Render3DOptions o = options(96, ViewDirection::Iso);
+  o.lipschitz = 1;
+  DepthMap m;
+  ASSERT_NO_THROW(m = render3d(t, o));
+  int hits = 0;
+  for (float d : m.depth) hits += d == d;
+  EXPECT_GT(hits, 0);
+}
+
 TEST(Render3D, RendererIsReusableAndBruteForceRowStep) {
   Graph g;
   const Tape a = sphere_tape(g, {0, 0, 0}, 0.5), b = sphere_tape(g, {0.3, 0, 0}, 0.4);
