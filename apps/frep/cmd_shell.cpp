@@ -41,7 +41,7 @@ void register_shell(CLI::App& app) {
       ->check(CLI::IsMember({"inward", "outward", "centred", "centered"}))
       ->capture_default_str();
   add_field_output_options(cmd, o);
-  cmd->callback([a, o] {
+  cmd->callback([cmd, a, o] {
     check_field_output_options(*o);
     check_field_output(a->output);
     Model m = load_input(a->input);
@@ -57,7 +57,20 @@ void register_shell(CLI::App& app) {
       const double grow = o->bounds.empty() ? (inward ? 0.0 : outward ? a->thickness : a->thickness / 2) : 0.0;
       const Box3 region = input_region(a->input, m.info, Tape::compile(*m.graph, m.root), *o).inflated(grow);
       const Vec3 size = region.size();
-      const double cell = std::max({size.x, size.y, size.z}) / o->resolution;
+      const double longest = std::max({size.x, size.y, size.z});
+      // Without --resolution, the wall gets at least 3 cells across (up to 1024 cells), since
+      // the default 128 loses most of a thin wall on a big part.
+      if (cmd->get_option("--resolution")->count() == 0) {
+        const double wanted = std::ceil(3 * longest / a->thickness);
+        if (wanted > o->resolution) {
+          const int r = static_cast<int>(std::min(wanted, 1024.0));
+          if (!o->quiet)
+            fmt::print(stderr, "frep shell: --resolution {} (instead of {}) so that the wall is {} cells thick\n", r,
+                       o->resolution, r == 1024 ? "as many" : "3");
+          o->resolution = r;
+        }
+      }
+      const double cell = longest / o->resolution;
       if (!o->quiet && a->thickness < 2 * cell)
         fmt::print(stderr,
                    "frep: warning: the wall ({:.6g}) is thinner than two cells ({:.6g}); parts of it may be lost in the "

@@ -123,6 +123,13 @@ TEST_F(UgfCommands, ShellIsHollowInwardByDefault) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("thinner than two cells"), std::string::npos) << r.err;
   EXPECT_TRUE(validate_mesh(read_mesh(path("thin.stl"))).is_solid());
+  // Without --resolution the wall gets 3 cells: 0.03 across a cube of side 2 (plus margins) needs
+  // more than the default 128 cells, and nothing is lost.
+  r = run("shell '" + cube_ + "' 0.03 -o '" + path("auto.stl") + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("so that the wall is 3 cells thick"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("thinner"), std::string::npos) << r.err;
+  EXPECT_EQ(validate_mesh(read_mesh(path("auto.stl"))).components, 2u);
   // Outward: the wall from 1.0 to 1.3; centred: 0.85 to 1.15.
   r = run("shell '" + cube_ + "' 0.3 --side outward -o '" + path("out.stl") + "' -r 32 -q");
   ASSERT_EQ(r.code, 0) << r.err;
