@@ -26,7 +26,8 @@ void register_check(CLI::App& app) {
   cmd->add_option("--weld-tolerance", a->weld_tolerance,
                   "Merge vertices closer than this before checking (default 0: identical positions only)")
       ->check(finite_non_negative());
-  cmd->add_option("--examples", a->examples, "Example locations listed per defect (default 5)");
+  cmd->add_option("--examples", a->examples, "Example locations listed per defect (default 5)")
+      ->check(whole_non_negative());  // unsigned: "-1" would wrap to 2^64 - 1
   cmd->add_flag("--no-self-intersections", a->no_intersections, "Skip the self-intersection test");
   cmd->add_option("--threads", a->threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0, 1024));
   cmd->callback([a] {

@@ -51,6 +51,7 @@ void register_clearance(CLI::App& app) {
     std::string a, b;
     double tolerance = 1e-4;
     std::size_t max_boxes = 20000;
+    FieldOutputOptions region;  // only its bounds: the region searched
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("A", a->a, kFieldInputHelp)->required();
@@ -62,16 +63,21 @@ void register_clearance(CLI::App& app) {
   cmd->add_option("--max-boxes", a->max_boxes, "Most boxes the interval search examines")
       ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 32))
       ->capture_default_str();
+  cmd->add_option("--bounds", a->region.bounds,
+                  "Region searched, x0,y0,z0,x1,y1,z1 (default: the box around both inputs, their own or found by "
+                  "interval search; needed for unbounded inputs)")
+      ->delimiter(',')
+      ->expected(6);
   cmd->callback([a] {
+    check_field_output_options(a->region);
     Model ma = load_input(a->a);
     const Model mb = load_input(a->b);
     const NodeId b_root = copy_into(*ma.graph, *mb.graph, mb.root);
     const Tape ta = Tape::compile(*ma.graph, ma.root), tb = Tape::compile(*ma.graph, b_root);
     // The shortest segment between two disjoint bodies, and the deepest point of an overlap, lie
     // in the box around both.
-    const FieldOutputOptions none;
-    Box3 box = input_region(a->a, ma.info, ta, none);
-    box.add(input_region(a->b, mb.info, tb, none));
+    Box3 box = input_region(a->a, ma.info, ta, a->region);
+    box.add(input_region(a->b, mb.info, tb, a->region));
     ugf::ClearanceOptions o;
     o.tolerance = static_cast<float>(a->tolerance);
     o.max_boxes = a->max_boxes;

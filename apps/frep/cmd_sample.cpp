@@ -59,15 +59,19 @@ void register_sample(CLI::App& app) {
                   "for an expression)")
       ->delimiter(',')
       ->expected(6);
-  auto* points = cmd->add_option("--points", a->points, "P points uniform in the bounds: rows (x, y, z, d)");
+  // Unsigned options would take "-1" as 2^64 - 1: whole numbers >= 0 only.
+  auto* points = cmd->add_option("--points", a->points, "P points uniform in the bounds: rows (x, y, z, d)")
+                     ->check(whole_non_negative());
   auto* near = cmd->add_option("--near-surface", a->near,
-                               "K points near the surface: surface samples plus Gaussian noise of deviation --sigma");
+                               "K points near the surface: surface samples plus Gaussian noise of deviation --sigma")
+                   ->check(whole_non_negative());
   auto* sigma = cmd->add_option("--sigma", a->sigma, "Standard deviation of the noise of --near-surface (length)")
                     ->check(finite_non_negative());
   near->needs(sigma);
   sigma->needs(near);
   grid->excludes(points)->excludes(near);
-  cmd->add_option("--seed", a->seed, "Seed of the random points (default 0); the same seed gives the same file");
+  cmd->add_option("--seed", a->seed, "Seed of the random points (default 0); the same seed gives the same file")
+      ->check(whole_non_negative());
   cmd->add_option("--sign", a->sign,
                   "Meshes: sign of valid solids by the closest feature's 'pseudonormal' (default; exact, and the fast "
                   "grid algorithm) or the 'winding' number; other meshes always use the winding number")

@@ -2,7 +2,9 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 namespace frep::cli {
@@ -17,6 +19,20 @@ inline CLI::Validator finite_non_negative() {
         return {};
       },
       "FINITE >= 0");
+}
+
+// A CLI11 check for counts and seeds held in unsigned types, which would take "-1" as 2^64 - 1:
+// a whole number >= 0 (digits only, so that the message is short).
+inline CLI::Validator whole_non_negative() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        std::uint64_t v = 0;
+        const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+        if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos || r.ec != std::errc())
+          return "Value " + s + " is not a whole number from 0 to 2^64 - 1";
+        return {};
+      },
+      "WHOLE >= 0");
 }
 
 void register_info(CLI::App& app);

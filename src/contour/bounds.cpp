@@ -100,7 +100,7 @@ BoundsResult find_bounds(const Tape& tape, const BoundsSearchOptions& o) {
           char msg[400];
           std::snprintf(msg, sizeof msg,
                         "the expression may be negative as far as the search limit (+-%g) along %c: it looks "
-                        "unbounded (a half-space, a 2D shape, a lattice...); give the region to mesh with "
+                        "unbounded (a half-space, a 2D shape, a lattice...); give the region with "
                         "--bounds x0,y0,z0,x1,y1,z1",
                         o.limit, "xyz"[a]);
           throw InputError("", 0, msg);
