@@ -42,6 +42,7 @@ void register_convert(CLI::App& app) {
   cmd->add_flag("--quiet,-q", a->quiet, "Print nothing but errors");
   cmd->callback([a] {
     check_expression_path(a->output);
+    check_output(a->output, {a->mesh});
     const TriMesh mesh = read_mesh_noting(a->mesh);
     ConvertOptions opt;
     opt.sign = a->sign == "tets" ? SignMode::Tetrahedra : SignMode::Pseudonormal;

@@ -119,6 +119,7 @@ void register_export(CLI::App& app) {
         throw CLI::ValidationError(e.detail());
       }
     }
+    if (a->output != "-") check_output(a->output, {a->file});
     const Model m = load_input(a->file);
     const std::string source = std::filesystem::path(a->file).filename().string();
     auto produce = [&](std::ostream& out) { write(out, m, source); };

@@ -106,6 +106,7 @@ void register_mesh(CLI::App& app) {
     o.snap.iterations = a->snap_iterations;
     o.threads = a->threads;
     check_output_path(a->output);
+    check_output(a->output, {a->input});
 
     const Model m = load_input(a->input);
     const Tape tape = Tape::compile(*m.graph, m.root);

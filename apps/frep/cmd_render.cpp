@@ -141,6 +141,7 @@ void register_render(CLI::App& app) {
     }
     const bool grayscale = !three_d->count() && !slice->count() ? true : (three_d->count() && a->mode == "depth");
     check_image_path(a->output, grayscale ? 1 : 3);
+    check_output(a->output, {a->file});
     const Model m = load_input(a->file);
     const Tape tape = Tape::compile(*m.graph, m.root);
     // Without --bounds, 3D views and slices show the box the input says holds its inside (a mesh,

@@ -89,6 +89,7 @@ void register_sample(CLI::App& app) {
       throw CLI::ValidationError("frep sample", "give --grid N, --points P or --near-surface K --sigma S");
     std::optional<Box3> bounds;
     if (!a->bounds.empty()) bounds = parse_bounds(a->bounds);
+    check_output(a->output, {a->input});
     const auto t0 = std::chrono::steady_clock::now();
     const std::size_t work = a->grid ? std::size_t(a->grid) * a->grid * a->grid : a->points + a->near;
     const bool show = !a->quiet && work >= (std::size_t(1) << 21);

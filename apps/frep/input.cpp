@@ -2,7 +2,11 @@
 
 #include <fmt/core.h>
 
+#include <filesystem>
+
 #include "frep/convert/convert.hpp"
+#include "frep/error.hpp"
+#include "frep/io/atomic_file.hpp"
 #include "frep/mesh/mesh_io.hpp"
 
 namespace frep::cli {
@@ -16,6 +20,14 @@ Model load_input(const std::string& path, ConvertStats* stats) {
     fmt::print(stderr, "frep: converted {} ({} triangles) to an expression of {} nodes in {:.2f} s\n", path,
                s.triangles, s.nodes, s.seconds);
   return m;
+}
+
+void check_output(const std::string& output, std::initializer_list<std::string> inputs) {
+  check_output_directory(output);
+  std::error_code ec;
+  for (const std::string& in : inputs)
+    if (std::filesystem::equivalent(output, in, ec))
+      throw InputError(output, 0, "is the input file " + in + ": writing it would replace the input; choose another output name");
 }
 
 void print_read_warnings(const std::string& path, const std::vector<std::string>& warnings) {

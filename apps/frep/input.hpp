@@ -3,6 +3,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <initializer_list>
 #include <string>
 
 #include "frep/convert/convert.hpp"
@@ -27,6 +28,10 @@ void warn_unresolved(std::size_t unresolved);
 
 // Prints what a mesh reader tolerated (TriMesh::warnings) as "frep: warning: PATH: ..." lines.
 void print_read_warnings(const std::string& path, const std::vector<std::string>& warnings);
+
+// Before any work: `output` can be written (its directory exists and is writable) and is not one of
+// the input files (writing it would replace the input). Throws InputError naming the output.
+void check_output(const std::string& output, std::initializer_list<std::string> inputs);
 
 // read_mesh, then print_read_warnings: how commands read the meshes they are given.
 TriMesh read_mesh_noting(const std::string& path);

@@ -297,6 +297,28 @@ TEST_F(Cli, FailedRenderKeepsAnExistingOutputIntact) {
   EXPECT_EQ(test::read_text(png), "original");
 }
 
+// An output that is the input file (under any name) is refused before any work, and the input
+// stays as it was; so is an output in a directory that does not exist, before a long conversion.
+TEST_F(Cli, OutputsNeverReplaceTheInputAndFailEarly) {
+  const std::string vm = test::shell_quote(circle_), before = test::read_text(circle_);
+  fs::create_symlink(circle_, path("alias.vm"));
+  for (const std::string& out : {circle_, path("alias.vm"), path("./circle.vm")})
+    for (const std::string& cmd : {"sample " + vm + " --grid 4", "export " + vm + " -f c", "offset " + vm + " 0.1"}) {
+      const RunResult r = run(cmd + " -o " + test::shell_quote(out));
+      EXPECT_EQ(r.code, 1) << cmd << " -o " << out << "\n" << r.err;
+      EXPECT_NE(r.err.find("writing it would replace the input"), std::string::npos) << cmd << "\n" << r.err;
+      EXPECT_EQ(test::read_text(circle_), before) << cmd;
+    }
+  for (const std::string& cmd : {"convert " + test::shell_quote(FREP_SOURCE_DIR "/examples/bracket.obj") + " -o " +
+                                     test::shell_quote(path("nodir/out.frep")),
+                                 "sample " + vm + " --grid 4 -o " + test::shell_quote(path("nodir/out.npy"))}) {
+    const RunResult r = run(cmd);
+    EXPECT_EQ(r.code, 1) << cmd;
+    EXPECT_NE(r.err.find("directory"), std::string::npos) << cmd << "\n" << r.err;
+    EXPECT_EQ(r.err.find("converted"), std::string::npos) << "work done before the check: " << r.err;
+  }
+}
+
 // What a mesh reader tolerates is said on stderr, naming the file, by every command that reads
 // the mesh: here an ASCII STL cut between two facets (no 'endsolid').
 TEST_F(Cli, MeshReaderWarningsReachTheUser) {
