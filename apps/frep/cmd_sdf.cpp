@@ -5,6 +5,7 @@
 #include "frep/io/points.hpp"
 #include "frep/mesh/mesh_distance.hpp"
 #include "frep/mesh/mesh_io.hpp"
+#include "frep/mesh/validate.hpp"
 
 namespace frep::cli {
 
@@ -38,7 +39,18 @@ void register_sdf(CLI::App& app) {
         parse_points_f64(read_points_text(a->points), points_source_name(a->points), /*require_finite=*/true);
     MeshDistanceOptions opt;
     opt.weld_tolerance = a->weld_tolerance;
-    const MeshDistance md(read_mesh_noting(a->file), opt);
+    TriMesh mesh = read_mesh_noting(a->file);
+    if (a->sign == "pseudonormal" && !a->unsigned_only) {
+      // Pseudonormal signs are only meaningful on a closed, consistently oriented solid.
+      ValidationOptions vo;
+      vo.weld_tolerance = a->weld_tolerance;
+      vo.threads = a->threads;
+      const ValidationReport report = validate_mesh(mesh, vo);
+      if (!report.is_solid())
+        std::fprintf(stderr, "frep sdf: warning: %s: %s; pseudonormal signs may be wrong on it (--sign winding is robust)\n",
+                     a->file.c_str(), report.summary().c_str());
+    }
+    const MeshDistance md(std::move(mesh), opt);
     const std::size_t n = p.size();
     std::vector<double> d(n);
     if (a->unsigned_only) {
