@@ -58,7 +58,7 @@ void register_clearance(CLI::App& app) {
   cmd->add_option("B", a->b, "The second body, the same kinds of file as A")->required();
   cmd->add_option("--tolerance", a->tolerance,
                   "Stop once the value found is within this of the proven lower bound (absolute, in the inputs' units)")
-      ->check(CLI::PositiveNumber)
+      ->check(finite_number(true))
       ->capture_default_str();
   cmd->add_option("--max-boxes", a->max_boxes, "Most boxes the interval search examines")
       ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 32))

@@ -51,7 +51,7 @@ void register_export(CLI::App& app) {
       ->check(CLI::Range(20, 10000));
   cmd->add_option("--radius", a->shadertoy.radius, "shadertoy: the shape lies in [-R, R]^3")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(finite_number(true));
   cmd->add_option("--step-scale", a->shadertoy.step_scale,
                   "shadertoy: sphere-tracing step as a fraction of the field value, below 1 for fields steeper "
                   "than a distance (0 = from the gradient sampled in the cube)")

@@ -68,8 +68,9 @@ void register_mesh(CLI::App& app) {
   res->excludes(cell);
   cell->excludes(res);
   cmd->add_option("--bounds", a->bounds,
-                  "Region to mesh, x0,y0,z0,x1,y1,z1 (default: found by interval search of the expression; "
-                  "a shape reaching the bounds is cut and closed there)")
+                  "Region to mesh, x0,y0,z0,x1,y1,z1 (default: the box the input carries, a mesh's own or the one "
+                  "frep convert wrote, else found by interval search of the expression; a shape reaching the bounds "
+                  "is cut and closed there)")
       ->delimiter(',')
       ->expected(6);
   cmd->add_option("--method", a->method, "dc: dual contouring (sharp features); snap: voxels snapped to the surface")

@@ -80,7 +80,9 @@ void register_render(CLI::App& app) {
   cmd->add_option("--threads,-j", a->opt.threads, "Worker threads (0 = all cores)")
       ->capture_default_str()
       ->check(CLI::Range(0, 1024));
-  auto* z = cmd->add_option("--z", a->opt.z, "Slice height for 3D expressions (the default 2D picture)")->capture_default_str();
+  auto* z = cmd->add_option("--z", a->opt.z, "Slice height for 3D expressions (the default 2D picture)")
+                ->check(finite_number())
+                ->capture_default_str();
   cmd->add_option("--tiles", a->tiles,
                   "Tile edge per subdivision level, largest first (advanced; default 256,64,16; with --3d halving from the image size down to 4)")
       ->delimiter(',');
@@ -155,6 +157,7 @@ void register_render(CLI::App& app) {
         if (!(box.lo[i] < box.hi[i])) box.lo[i] -= 1, box.hi[i] += 1;  // flat: give it some depth
     }
     const auto t0 = std::chrono::steady_clock::now();
+    bool empty = false;  // a 3D view without a hit, a 2D picture without an inside pixel
     const auto draw = [&]() -> Image {
       if (three_d->count()) {
         Render3DOptions o;
@@ -176,7 +179,9 @@ void register_render(CLI::App& app) {
         so.mode = a->mode == "depth" ? ShadeMode::Depth : a->mode == "normals" ? ShadeMode::Normals : ShadeMode::Shaded;
         so.ambient_occlusion = a->ao;
         so.threads = a->opt.threads;
-        return shade(render3d(tape, o), so);
+        const DepthMap map = render3d(tape, o);
+        empty = std::none_of(map.depth.begin(), map.depth.end(), [](float d) { return d == d; });
+        return shade(map, so);
       }
       if (slice->count()) {
         SliceOptions o;
@@ -191,7 +196,9 @@ void register_render(CLI::App& app) {
       RenderOptions o = a->opt;
       if (!a->tiles.empty()) o.tiles = a->tiles;
       o.lipschitz = lipschitz_of(m, a->lipschitz);
-      return render2d(tape, o);
+      Image im = render2d(tape, o);
+      empty = std::all_of(im.pixels.begin(), im.pixels.end(), [](std::uint8_t v) { return v == 0; });
+      return im;
     };
     Image img;
     try {
@@ -203,6 +210,18 @@ void register_render(CLI::App& app) {
     }
     const auto t1 = std::chrono::steady_clock::now();
     save_image(a->output, img);
+    // An empty picture is most often the wrong region: say which one was shown.
+    if (empty && !a->quiet) {
+      if (three_d->count())
+        fmt::print(stderr, "frep render: warning: nothing of {} is in view (the region shown: {:.6g}, {:.6g}, {:.6g} .. {:.6g}, {:.6g}, {:.6g}{}); give --bounds\n",
+                   a->file, box.lo.x, box.lo.y, box.lo.z, box.hi.x, box.hi.y, box.hi.z,
+                   framed ? ", the box the input carries" : bounds->count() ? "" : ", the default");
+      else
+        fmt::print(stderr, "frep render: warning: {} is nowhere negative on z = {:.6g} over [-1,1]^2 (the 2D picture's "
+                   "fixed region){}\n", a->file, a->opt.z,
+                   m.info.bounds.empty() ? ": try --3d or --slice with --bounds"
+                                         : ": try --3d or --slice, which show the box the input carries");
+    }
     if (!a->quiet)
       fmt::print("wrote {} ({}x{}, rendered in {:.1f} ms)\n", a->output, img.width, img.height,
                  std::chrono::duration<double, std::milli>(t1 - t0).count());

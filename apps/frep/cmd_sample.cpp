@@ -55,8 +55,8 @@ void register_sample(CLI::App& app) {
                                "bounds, ends included")
                    ->check(CLI::Range(2, 4096));
   cmd->add_option("--bounds", a->bounds,
-                  "x0,y0,z0,x1,y1,z1 (default: the cube around a mesh's box, 5% of its diagonal beyond it; [-1,1]^3 "
-                  "for an expression)")
+                  "x0,y0,z0,x1,y1,z1 (default: the cube around a mesh's box, 5% of its diagonal beyond it; the same "
+                  "around the box an expression file carries, as frep convert writes it; else [-1,1]^3)")
       ->delimiter(',')
       ->expected(6);
   // Unsigned options would take "-1" as 2^64 - 1: whole numbers >= 0 only.

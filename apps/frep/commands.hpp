@@ -21,6 +21,19 @@ inline CLI::Validator finite_non_negative() {
       "FINITE >= 0");
 }
 
+// A number finite in single precision, as the evaluators use it (CLI11's number checks let NaN
+// and infinities through), optionally > 0.
+inline CLI::Validator finite_number(bool positive = false) {
+  return CLI::Validator(
+      [positive](std::string& s) -> std::string {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(s, v) || !(std::fabs(v) <= 3.4028234663852886e38) || (positive && !(v > 0)))
+          return "Value " + s + (positive ? " is not a finite number > 0" : " is not a finite number");
+        return {};
+      },
+      positive ? "FINITE > 0" : "FINITE");
+}
+
 // A CLI11 check for counts and seeds held in unsigned types, which would take "-1" as 2^64 - 1:
 // a whole number >= 0 (digits only, so that the message is short).
 inline CLI::Validator whole_non_negative() {

@@ -319,6 +319,20 @@ TEST_F(Cli, OutputsNeverReplaceTheInputAndFailEarly) {
   }
 }
 
+// An empty picture says which region it showed: usually the shape is elsewhere.
+TEST_F(Cli, EmptyPicturesSayWhy) {
+  write("far.vm", "_0 var-x\n_1 const 3\n_2 sub _0 _1\n_3 square _2\n_4 var-y\n_5 square _4\n_6 var-z\n"
+                  "_7 square _6\n_8 add _3 _5\n_9 add _8 _7\n_a sqrt _9\n_b const 0.5\n_c sub _a _b\n");
+  const std::string far = test::shell_quote(path("far.vm"));
+  RunResult r = run("render " + far + " --3d --size 32 -o " + test::shell_quote(path("far.png")));
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("nothing of " + path("far.vm") + " is in view"), std::string::npos) << r.err;
+  r = run("render " + far + " --size 32 -o " + test::shell_quote(path("far2d.png")));
+  EXPECT_NE(r.err.find("is nowhere negative on z = 0 over [-1,1]^2"), std::string::npos) << r.err;
+  r = run("render " + far + " --3d --size 32 --bounds 2,-1,-1,4,1,1 -o " + test::shell_quote(path("near.png")));
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+}
+
 // What a mesh reader tolerates is said on stderr, naming the file, by every command that reads
 // the mesh: here an ASCII STL cut between two facets (no 'endsolid').
 TEST_F(Cli, MeshReaderWarningsReachTheUser) {
