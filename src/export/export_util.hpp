@@ -55,4 +55,26 @@ inline bool is_identifier(std::string_view s) {
   return true;
 }
 
+// Words a generated function may not be called: C and GLSL keywords and type names (a function
+// named `int` or `float` does not compile), and the helpers the exports write themselves (frep_*).
+inline bool is_reserved_name(std::string_view s) {
+  static constexpr std::string_view kReserved[] = {
+      // C (C99 to C23)
+      "auto", "break", "case", "char", "const", "continue", "default", "do", "double", "else", "enum", "extern",
+      "float", "for", "goto", "if", "inline", "int", "long", "register", "restrict", "return", "short", "signed",
+      "sizeof", "static", "struct", "switch", "typedef", "union", "unsigned", "void", "volatile", "while", "bool",
+      "true", "false", "alignas", "alignof", "constexpr", "nullptr", "static_assert", "thread_local", "typeof",
+      "_Bool", "_Complex", "_Imaginary", "_Alignas", "_Alignof", "_Atomic", "_Generic", "_Noreturn",
+      "_Static_assert", "_Thread_local", "main",
+      // GLSL
+      "attribute", "uniform", "varying", "buffer", "shared", "coherent", "readonly", "writeonly", "layout",
+      "centroid", "flat", "smooth", "noperspective", "patch", "sample", "subroutine", "in", "out", "inout",
+      "invariant", "precise", "discard", "lowp", "mediump", "highp", "precision", "struct", "uint", "vec2", "vec3",
+      "vec4", "ivec2", "ivec3", "ivec4", "uvec2", "uvec3", "uvec4", "bvec2", "bvec3", "bvec4", "dvec2", "dvec3",
+      "dvec4", "mat2", "mat3", "mat4", "sampler2D", "sampler3D", "samplerCube", "mainImage", "auto_step_scale"};
+  for (std::string_view r : kReserved)
+    if (s == r) return true;
+  return s.rfind("frep_", 0) == 0 && s != "frep_sdf";
+}
+
 }  // namespace frep::export_detail

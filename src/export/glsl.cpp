@@ -98,9 +98,10 @@ const char* helper_text(const Helper& h, bool nan_checks) { return nan_checks ||
 
 void check_name(const std::string& name) {
   if (!export_detail::is_identifier(name) || name == "p" || name.rfind("gl_", 0) == 0 ||
-      name.find("__") != std::string::npos)
+      name.find("__") != std::string::npos || export_detail::is_reserved_name(name))
     throw InputError("", 0,
-                     "GLSL function name '" + name + "' is not a GLSL identifier (or is p, starts with gl_ or has __)");
+                     "GLSL function name '" + name +
+                         "' is not a GLSL identifier, or is reserved (p, gl_*, __, a keyword or type, or frep_*)");
 }
 
 // The helpers and the function; returns the number of reachable nodes.
