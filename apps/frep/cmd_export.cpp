@@ -26,7 +26,7 @@ void register_export(CLI::App& app) {
       "  shadertoy  a complete Shadertoy Image shader that ray-marches the shape (drag to orbit)\n"
       "  c          float frep_sdf(float x, float y, float z), C99 + <math.h>, frep's f32 semantics\n"
       "  latex      a document (or --fragment) with the expression as mathematics\n"
-      "Without --format, the extension of -o decides: .glsl, .c/.h, .tex.\n"
+      "Without --format, the extension of -o decides: .glsl/.frag, .c/.h, .tex.\n"
       "Details: docs/export.md.");
   struct Args {
     std::string file, output, format, name;
@@ -70,12 +70,12 @@ void register_export(CLI::App& app) {
     std::string format = a->format;
     if (format.empty()) {
       const std::string ext = std::filesystem::path(a->output).extension().string();
-      if (ext == ".glsl") format = "glsl";
+      if (ext == ".glsl" || ext == ".frag") format = "glsl";
       else if (ext == ".c" || ext == ".h") format = "c";
       else if (ext == ".tex") format = "latex";
       else
         throw CLI::ValidationError("--format", "no --format given and the extension of '" + a->output +
-                                                   "' does not say (.glsl, .c, .h, .tex)");
+                                                   "' does not say (.glsl or .frag, .c, .h, .tex)");
     }
     if (a->fragment && format != "latex") throw CLI::ValidationError("--fragment", "only applies to --format latex");
     if (a->nan_checks >= 0 && format != "glsl" && format != "shadertoy")

@@ -82,7 +82,9 @@ void run_tetgen(const std::string& program, const std::vector<std::string>& args
     if (std::chrono::steady_clock::now() > deadline) {
       ::kill(pid, SIGKILL);
       ::waitpid(pid, &status, 0);
-      throw InputError(mesh_name, 0, "TetGen did not finish within " + std::to_string(static_cast<long>(timeout)) +
+      char limit[32];
+      std::snprintf(limit, sizeof limit, "%g", timeout);
+      throw InputError(mesh_name, 0, std::string("TetGen did not finish within ") + limit +
                                          " s (time limit; see --tetgen-timeout)");
     }
     std::this_thread::sleep_for(sleep);
