@@ -85,7 +85,8 @@ void register_render(CLI::App& app) {
                 ->capture_default_str();
   cmd->add_option("--tiles", a->tiles,
                   "Tile edge per subdivision level, largest first (advanced; default 256,64,16; with --3d halving from the image size down to 4)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(CLI::Range(1, 1 << 20));
   cmd->add_flag("--quiet,-q", a->quiet, "Do not print where the image went");
   add_lipschitz_option(cmd, a->lipschitz);
 
@@ -142,6 +143,8 @@ void register_render(CLI::App& app) {
       box = Box3{{a->bounds[0], a->bounds[1], a->bounds[2]}, {a->bounds[3], a->bounds[4], a->bounds[5]}};
     }
     const bool grayscale = !three_d->count() && !slice->count() ? true : (three_d->count() && a->mode == "depth");
+    for (std::size_t i = 1; i < a->tiles.size(); ++i)
+      if (a->tiles[i] > a->tiles[i - 1]) throw CLI::ValidationError("--tiles", "tile sizes must not increase");
     check_image_path(a->output, grayscale ? 1 : 3);
     check_output(a->output, {a->file});
     const Model m = load_input(a->file);
