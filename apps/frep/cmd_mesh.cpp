@@ -12,18 +12,17 @@
 #include "input.hpp"
 #include "frep/contour/mesher.hpp"
 #include "frep/error.hpp"
-#include "frep/io/atomic_file.hpp"
 #include "frep/io/load.hpp"
 #include "frep/mesh/mesh_io.hpp"
 
 namespace frep::cli {
 namespace {
 
-void check_output_path(const std::string& path) {
+void check_output_path(const std::string& path, const std::string& input) {
   const MeshFormat f = format_from_extension(path);
   if (f != MeshFormat::Stl && f != MeshFormat::Obj && f != MeshFormat::Ply)
     throw InputError(path, 0, "unknown mesh format for the output: use a .stl, .obj or .ply file name");
-  check_output_directory(path);
+  check_output(path, {input});
 }
 
 std::string fmt_point(const Vec3& p) { return fmt::format("{:.6g}, {:.6g}, {:.6g}", p.x, p.y, p.z); }
@@ -106,8 +105,7 @@ void register_mesh(CLI::App& app) {
     o.snap.gradient = a->gradient == "central" ? SnapGradient::CentralDifferences : SnapGradient::Analytic;
     o.snap.iterations = a->snap_iterations;
     o.threads = a->threads;
-    check_output_path(a->output);
-    check_output(a->output, {a->input});
+    check_output_path(a->output, a->input);
 
     const Model m = load_input(a->input);
     const Tape tape = Tape::compile(*m.graph, m.root);

@@ -36,8 +36,7 @@ void register_offset(CLI::App& app) {
   add_field_output_options(cmd, o);
   cmd->callback([a, o] {
     check_field_output_options(*o);
-    check_field_output(a->output);
-    check_output(a->output, {a->input});
+    check_field_output(a->output, a->input);
     Model m = load_input(a->input);
     o->lipschitz = lipschitz_of(m, o->lipschitz);  // an offset keeps it
     // Only a mesh output needs the region (an expression is saved whatever its bounds).

@@ -43,8 +43,7 @@ void register_shell(CLI::App& app) {
   add_field_output_options(cmd, o);
   cmd->callback([cmd, a, o] {
     check_field_output_options(*o);
-    check_field_output(a->output);
-    check_output(a->output, {a->input});
+    check_field_output(a->output, a->input);
     Model m = load_input(a->input);
     o->lipschitz = lipschitz_of(m, o->lipschitz);  // every side keeps it (max and abs of L-Lipschitz fields)
     const float t = static_cast<float>(a->thickness);

@@ -10,7 +10,6 @@
 #include "frep/contour/bounds.hpp"
 #include "frep/contour/mesher.hpp"
 #include "frep/error.hpp"
-#include "frep/io/atomic_file.hpp"
 #include "frep/io/save.hpp"
 #include "frep/mesh/mesh_io.hpp"
 
@@ -57,7 +56,7 @@ void check_field_output_options(const FieldOutputOptions& o) {
       throw CLI::ValidationError("--bounds", fmt::format("the bounds are empty along {}: need {}0 < {}1", "xyz"[i], "xyz"[i], "xyz"[i]));
 }
 
-void check_field_output(const std::string& path) {
+void check_field_output(const std::string& path, const std::string& input) {
   if (!is_mesh_output(path)) {
     const MeshFormat f = format_from_extension(path);
     if (f != MeshFormat::Unknown)
@@ -69,7 +68,7 @@ void check_field_output(const std::string& path) {
       throw InputError(path, 0, "unknown output format: use .stl, .obj or .ply (a mesh) or .vm, .rhai or .frep (the expression)");
     }
   }
-  check_output_directory(path);
+  check_output(path, {input});
 }
 
 Box3 input_region(const std::string& input, const FieldInfo& info, const Tape& tape, const FieldOutputOptions& o) {

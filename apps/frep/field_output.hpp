@@ -36,8 +36,8 @@ inline constexpr const char* kFieldOutputHelp =
 bool is_mesh_output(const std::string& path);
 
 // Fails (InputError naming the file) before any long work if the name has no supported
-// extension or its directory cannot be written.
-void check_field_output(const std::string& path);
+// extension, its directory cannot be written, or it is the input (check_output).
+void check_field_output(const std::string& path, const std::string& input);
 
 // A box holding the input's inside: `bounds` if given, else the one the input carries
 // (FieldInfo::bounds: a mesh's bounding box), else found by interval search of the tape.

@@ -68,11 +68,18 @@ void write_file_atomically(const std::string& path, const std::function<void(std
   }
   std::random_device rd;
   const std::string tmp = target.string() + ".tmp" + std::to_string(::getpid()) + "." + std::to_string(rd() % 1000000);
-  const bool track = tmp.size() < sizeof g_temporary && !g_writing.load();
-  if (track) {
-    std::memcpy(g_temporary, tmp.c_str(), tmp.size() + 1);
-    g_writing.store(true);
-  }
+  // Registered for the signal handler while it exists (unless another write already is).
+  struct Tracked {
+    bool on;
+    explicit Tracked(const std::string& t) : on(t.size() < sizeof g_temporary && !g_writing.load()) {
+      if (!on) return;
+      std::memcpy(g_temporary, t.c_str(), t.size() + 1);
+      g_writing.store(true);
+    }
+    ~Tracked() {
+      if (on) g_writing.store(false);
+    }
+  } tracked(tmp);
   try {
     {
       std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
@@ -92,10 +99,8 @@ void write_file_atomically(const std::string& path, const std::function<void(std
       throw InputError(path, 0, std::string("cannot rename temporary file: ") + std::strerror(errno));
   } catch (...) {
     std::remove(tmp.c_str());
-    if (track) g_writing.store(false);
     throw;
   }
-  if (track) g_writing.store(false);
 }
 
 void write_file_atomically(const std::string& path, std::string_view bytes) {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 
 #include "frep/error.hpp"
 #include "frep/io/atomic_file.hpp"
@@ -101,10 +102,9 @@ TriMesh read_mesh_from_memory(std::string_view bytes, const std::string& name, c
     case MeshFormat::Off: return read_off(bytes, name);
     case MeshFormat::Unknown: break;
   }
-  for (const char* ext : {".vm", ".rhai", ".frep"})
-    if (name.size() > std::strlen(ext) && name.compare(name.size() - std::strlen(ext), std::string::npos, ext) == 0)
-      throw InputError(name, 0, "is an expression, not a mesh (expected STL, OBJ, PLY or OFF): commands that take "
-                                "expressions read it (info, eval, render, mesh, sample...)");
+  if (const std::string ext = std::filesystem::path(name).extension().string(); ext == ".vm" || ext == ".rhai" || ext == ".frep")
+    throw InputError(name, 0, "is an expression, not a mesh (expected STL, OBJ, PLY or OFF): commands that take "
+                              "expressions read it (info, eval, render, mesh, sample...)");
   throw InputError(name, 0, "unrecognized mesh format (expected STL, OBJ, PLY or OFF)");
 }
 

@@ -112,12 +112,10 @@ TriMesh read_off(std::string_view bytes, const std::string& name) {
   for (std::uint64_t v = 0; v < nv; ++v) {
     for (int c = 0; c < dims; ++c) {
       while (!vt.next(tok)) {
-        if ((by_line && c > 0) || !next_content_line(lines, line)) {
-          if (by_line && c > 0)
-            throw InputError(name, lines.line_no(), "vertex needs " + std::to_string(dims) + " coordinates");
+        if (by_line && c > 0) throw InputError(name, lines.line_no(), "vertex needs " + std::to_string(dims) + " coordinates");
+        if (!next_content_line(lines, line))
           throw InputError(name, lines.line_no(), "OFF file ends after " + std::to_string(v) + " of " +
                                                       std::to_string(nv) + " vertices");
-        }
         vt = TokenSplitter(line);
       }
       if (!parse_double(tok, value[c]))

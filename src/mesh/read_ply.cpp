@@ -293,7 +293,7 @@ TriMesh read_ply(std::string_view bytes, const std::string& name) {
           }
           const std::uint64_t off = r.offset();  // binary: where the value starts
           const double val = r.value(pr.type);
-          const std::uint64_t ln = r.next_line();  // the line of the list, not of the value before it  // ASCII: the line of the token just read
+          const std::uint64_t ln = r.line();  // ASCII: the line of the token just read
           for (int c = 0; c < 3; ++c)
             if (axis[c] == int(i)) {
               if (!std::isfinite(val)) throw InputError(name, ln, "vertex coordinate is not a finite number", off);
@@ -318,7 +318,7 @@ TriMesh read_ply(std::string_view bytes, const std::string& name) {
             r.value(pr.type);
             continue;
           }
-          const std::uint64_t ln = r.next_line();  // the line of the list, not of the value before it
+          const std::uint64_t ln = first;  // ASCII: the entry's line (end_entry checks it is one line)
           const std::uint64_t n = list_length(r, pr.count_type);
           if (enc != Encoding::Ascii && n * type_size(pr.type) > r.remaining()) r.fail_end();
           if (int(i) != idx) {

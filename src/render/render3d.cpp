@@ -182,6 +182,27 @@ struct Renderer3D::State {
     depth[p] = w;
     normal[p] = n;
   }
+
+  // Hits i < n of `wk`: pixel hit_pixel[i], first inside sample hit_sample[i] (> 0), its value
+  // in refiner.fb[i] (NaN if unknown). Locates each crossing in the sample step in front of that
+  // sample on tape `t` (valid there) and writes it.
+  void refine_hits(Worker& wk, const Tape& t, std::size_t n, int steps) {
+    if (n == 0) return;
+    Refiner& rf = wk.refiner;
+    rf.resize(n);
+    if (wk.normals.size() < n) wk.normals.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t p = wk.hit_pixel[i];
+      const auto s = static_cast<std::size_t>(wk.hit_sample[i]);
+      rf.us[i] = uc[p % static_cast<std::uint32_t>(width)];
+      rf.vs[i] = vc[p / static_cast<std::uint32_t>(width)];
+      rf.a[i] = ws[s - 1];
+      rf.b[i] = ws[s];
+    }
+    rf.locate(t, n, steps, wk.normals.data());
+    for (std::size_t i = 0; i < n; ++i)
+      write(wk.hit_pixel[i], 2 * static_cast<std::uint32_t>(wk.hit_sample[i]), rf.ws[i], wk.normals[i]);
+  }
 };
 
 Renderer3D::Renderer3D(Render3DOptions options) : options_(std::move(options)) {
@@ -306,51 +327,35 @@ DepthMap Renderer3D::render(const Tape& model) {
         w.hit_pixel[n] = p;
         w.hit_sample[n] = s;
         rf.fb[n] = w.hit_value[i];
-        rf.us[n] = st.uc[p % static_cast<std::uint32_t>(st.width)];
-        rf.vs[n] = st.vc[p / static_cast<std::uint32_t>(st.width)];
-        rf.a[n] = st.ws[static_cast<std::size_t>(s) - 1];
-        rf.b[n] = st.ws[static_cast<std::size_t>(s)];
         ++n;
       }
-      if (n == 0) return;
-      if (w.normals.size() < n) w.normals.resize(n);
-      rf.locate(t, n, steps, w.normals.data());
-      for (std::size_t i = 0; i < n; ++i)
-        st.write(w.hit_pixel[i], 2 * static_cast<std::uint32_t>(w.hit_sample[i]), rf.ws[i], w.normals[i]);
+      st.refine_hits(w, t, n, steps);
     }
   } visitor{*this, st, steps};
   subdivider_->run(tape, grid, visitor);
 
   // A box settled inside by a Lipschitz bound leaves its first sample's crossing to the box in
-  // front, which evaluates that sample; on the surface itself the two can disagree by a rounding
-  // (the bound says inside, the evaluator says +0). Such pixels are refined here, in the sample
-  // step before the first inside sample, with the whole tape.
+  // front, which evaluates that sample. The two can disagree: by a rounding on the surface itself
+  // (the bound says inside, the evaluator +0), or everywhere when the bound is wrong (a user's
+  // --lipschitz, a field whose float evaluation breaks it). Such pixels are refined here, with
+  // the whole tape.
   {
     Worker& w = *workers_[0];
-    Refiner& rf = w.refiner;
     w.hit_pixel.clear();
+    w.hit_sample.clear();
     for (std::uint32_t p = 0; p < pixels; ++p)
       if (st.best[p] != kNone && st.key[p] == kNoKey) {
-        if (st.best[p] == 0) st.write(p, 0, st.ws[0], kFacingViewer);
-        else w.hit_pixel.push_back(p);
+        if (st.best[p] == 0) {
+          st.write(p, 0, st.ws[0], kFacingViewer);
+        } else {
+          w.hit_pixel.push_back(p);
+          w.hit_sample.push_back(st.best[p]);
+        }
       }
     const std::size_t n = w.hit_pixel.size();
-    if (n > 0) {
-      rf.resize(n);
-      if (w.normals.size() < n) w.normals.resize(n);
-      for (std::size_t i = 0; i < n; ++i) {
-        const std::uint32_t p = w.hit_pixel[i];
-        const auto s = static_cast<std::size_t>(st.best[p]);
-        rf.us[i] = st.uc[p % static_cast<std::uint32_t>(st.width)];
-        rf.vs[i] = st.vc[p / static_cast<std::uint32_t>(st.width)];
-        rf.a[i] = st.ws[s - 1];
-        rf.b[i] = st.ws[s];
-        rf.fb[i] = std::numeric_limits<float>::quiet_NaN();  // not known to be negative: no interpolation
-      }
-      rf.locate(tape, n, steps, w.normals.data());
-      for (std::size_t i = 0; i < n; ++i)
-        st.write(w.hit_pixel[i], 2 * static_cast<std::uint32_t>(st.best[w.hit_pixel[i]]), rf.ws[i], w.normals[i]);
-    }
+    w.refiner.resize(n);
+    std::fill_n(w.refiner.fb.begin(), n, std::numeric_limits<float>::quiet_NaN());  // unknown: no interpolation
+    st.refine_hits(w, tape, n, steps);
   }
 
   DepthMap out;

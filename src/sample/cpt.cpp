@@ -137,6 +137,10 @@ struct Context {
     for (int ax = 0; ax < 3; ++ax) v[ax] = grid.bounds.lo[ax] + h[ax] * (kCell * id[ax] + 0.5 * (kCell - 1));
     return v;
   }
+  // Position of coordinate x along `axis` in cells: its floor is the cell holding x.
+  double cell_position(int axis, double x) const {
+    return (x - (grid.bounds.lo[axis] - 0.5 * h[axis])) / (kCell * h[axis]);
+  }
   double cell_distance(int a, int b, int c) const {
     return cell_dist[(static_cast<std::size_t>(a) * ncell[1] + b) * ncell[2] + c];
   }
@@ -310,9 +314,8 @@ double find_reach(const Context& ctx, const Shape& s) {
     int lo[3], hi[3];
     bool empty = false;
     for (int a = 0; a < 3; ++a) {
-      const double origin = gb.lo[a] - 0.5 * ctx.h[a], size = kCell * ctx.h[a];
-      lo[a] = std::max(0, static_cast<int>(std::floor((center[a] - rho - origin) / size)));
-      hi[a] = std::min(ctx.ncell[a] - 1, static_cast<int>(std::floor((center[a] + rho - origin) / size)));
+      lo[a] = std::max(0, static_cast<int>(std::floor(ctx.cell_position(a, center[a] - rho))));
+      hi[a] = std::min(ctx.ncell[a] - 1, static_cast<int>(std::floor(ctx.cell_position(a, center[a] + rho))));
       if (!(center[a] + rho >= gb.lo[a] - ctx.h[a]) || !(center[a] - rho <= gb.hi[a] + ctx.h[a]) || lo[a] > hi[a])
         empty = true;
     }
@@ -337,10 +340,8 @@ double find_reach(const Context& ctx, const Shape& s) {
     bool relevant = false;
     {
       int cell[3];
-      for (int a = 0; a < 3; ++a) {
-        const double origin = gb.lo[a] - 0.5 * ctx.h[a], size = kCell * ctx.h[a];
-        cell[a] = std::clamp(static_cast<int>(std::floor((center[a] - origin) / size)), lo[a], hi[a]);
-      }
+      for (int a = 0; a < 3; ++a)
+        cell[a] = std::clamp(static_cast<int>(std::floor(ctx.cell_position(a, center[a]))), lo[a], hi[a]);
       relevant = passes(cell[0], cell[1], cell[2]);
       if (!relevant && hint[0] >= 0) {
         for (int a = 0; a < 3; ++a) cell[a] = std::clamp(hint[a], lo[a], hi[a]);
@@ -349,8 +350,6 @@ double find_reach(const Context& ctx, const Shape& s) {
     }
     // The whole box otherwise, each row of cells cut to the ball and the slab first (the cuts are
     // widened by a cell; `passes` decides).
-    const double z_origin = gb.lo[2] + 0.5 * (kCell - 1) * ctx.h[2], z_size = kCell * ctx.h[2];
-    const auto cell_of_z = [&](double z) { return (z - z_origin) / z_size; };
     for (int a = lo[0]; a <= hi[0] && !relevant; ++a)
       for (int b = lo[1]; b <= hi[1] && !relevant; ++b) {
         const Vec3 row = ctx.cell_center(a, b, 0);
@@ -364,8 +363,8 @@ double find_reach(const Context& ctx, const Shape& s) {
           zl = std::max(zl, z0), zu = std::min(zu, z1);
         }
         if (!(zl <= zu)) continue;
-        const int c0 = std::max(lo[2], static_cast<int>(std::floor(cell_of_z(zl))) - 1);
-        const int c1 = std::min(hi[2], static_cast<int>(std::ceil(cell_of_z(zu))) + 1);
+        const int c0 = std::max(lo[2], static_cast<int>(std::floor(ctx.cell_position(2, zl))) - 1);
+        const int c1 = std::min(hi[2], static_cast<int>(std::ceil(ctx.cell_position(2, zu))) + 1);
         for (int c = c0; c <= c1 && !relevant; ++c)
           if (passes(a, b, c)) relevant = true, hint[0] = a, hint[1] = b, hint[2] = c;
       }

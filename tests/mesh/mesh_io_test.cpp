@@ -253,6 +253,10 @@ TEST(MeshIoRegression, PlyHeaderToleratesTrailingBlanksAndReportsTheRightLine) {
   const InputError e = expect_input_error(
       [&] { read_mesh_from_memory(head + "0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n", "t.ply"); }, "not a finite number");
   EXPECT_EQ(e.line(), 11u);
+  // The last value of a line: still that line, not the next one.
+  const InputError last = expect_input_error(
+      [&] { read_mesh_from_memory(head + "0 0 nan\n1 0 0\n0 1 0\n3 0 1 2\n", "t.ply"); }, "not a finite number");
+  EXPECT_EQ(last.line(), 10u);
 }
 
 TEST(MeshIoRegression, PlyTriangleStripsRestartOnUnsignedMinusOne) {
