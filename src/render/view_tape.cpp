@@ -105,12 +105,17 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
       return map[root];
     };
     // A squared length |w|^2 = w_x^2 + w_y^2 + w_z^2 (in either association) of a vector
-    // w = alpha (p - a) + g c, where g is one value and c a constant vector (a squared distance
-    // to a point: c = 0; to a segment, as converted meshes write it: g the clamped position along
-    // it), is the same in view coordinates: with p = center + R q it is
-    // |alpha (q - R^T (a - center)) + g R^T c|^2. Bounded from u, v, w, each square sees the
-    // exact range of its view coordinate instead of a model axis's hull over the box. Returns
-    // kNotEmitted unless source value i has that form.
+    //   w = alpha (p - a) + g c                  (g one value, c a constant vector), or
+    //   w = alpha (g1 (p - a) + g2 (p - b))      (g1, g2 two values),
+    // is the same in view coordinates: with p = center + R q, p - a = R (q - R^T (a - center)).
+    // The first form is a squared distance to a point (c = 0) or, as converted meshes write it,
+    // to a segment (g the clamped position along it); the second, a segment interpolated between
+    // its ends (g1 = 1 - t, g2 = t). Bounded from u, v, w, each square sees the exact range of
+    // its view coordinate instead of a model axis's hull over the box. Every form computes
+    // alpha (q_j - a'_j) with the same instructions for the same point a, so a segment's value at
+    // its end (g = 0, or g1 = 1 and g2 = 0) is bit for bit the end point's: converted meshes rely
+    // on those exact ties (a vertex term must win them, its sign is the one that holds there).
+    // Returns kNotEmitted unless source value i has one of these forms.
     const auto rotated_norm = [&](std::size_t i) -> std::uint32_t {
       std::uint32_t sq[3];
       const SsaInstr& s = src[i];
@@ -130,57 +135,100 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
         if (!affine[j]) return g = j, c = 1, true;
         return false;
       };
-      double scale = 0;
-      Vec3 a, c;  // the point, and g's vector
-      std::uint32_t g = kNotEmitted;
-      std::uint8_t seen = 0;
-      for (std::uint32_t j : sq) {
-        if (!is_op(j, Op::Square)) return kNotEmitted;
-        std::uint32_t o = src[j].a;  // alpha_k (x_k - a_k) + g c_k
-        std::uint32_t gk = kNotEmitted;
-        double ck = 0;
-        if (!affine[o]) {
-          const SsaInstr& t = src[o];
-          if (t.op != Op::Add && t.op != Op::Sub) return kNotEmitted;
-          if (!affine[t.a] || !scaled(t.b, gk, ck)) return kNotEmitted;
-          if (t.op == Op::Sub) ck = -ck;
-          if (g != kNotEmitted && gk != g) return kNotEmitted;
-          g = gk;
-          o = t.a;
-        }
-        if (!affine[o] || std::popcount(axes[o]) != 1 || (seen & axes[o])) return kNotEmitted;
-        seen |= axes[o];
-        const int k = std::countr_zero(axes[o]);
+      // An affine value of one model axis k as alpha (x_k - a_k): its axis, alpha and a_k.
+      const auto one_axis = [&](std::uint32_t o, int& k, double& alpha, double& at) {
+        if (!affine[o] || std::popcount(axes[o]) != 1) return false;
+        k = std::countr_zero(axes[o]);
         const Vec3 row{cam.right[k], cam.up[k], cam.toward[k]};  // u, v, w coefficients of x_k
         const Affine& f = aff[o];
-        const double alpha = f.c[0] * row.x + f.c[1] * row.y + f.c[2] * row.z;
+        alpha = f.c[0] * row.x + f.c[1] * row.y + f.c[2] * row.z;
         if (!(alpha != 0) || std::fabs(f.c[0] - alpha * row.x) + std::fabs(f.c[1] - alpha * row.y) +
                                      std::fabs(f.c[2] - alpha * row.z) > 1e-12 * std::fabs(alpha))
-          return kNotEmitted;
+          return false;
+        // alpha x_k + beta = alpha (x_k - a_k), beta the constant at the model origin.
+        at = -(f.c[3] - alpha * cam.center[k]) / alpha;
+        return true;
+      };
+      const auto same = [](double x, double y) { return std::fabs(x - y) <= 1e-12 * std::fabs(y); };
+      double scale = 0;
+      Vec3 a, b, c;  // the points, and g's vector
+      std::uint32_t g = kNotEmitted, g1 = kNotEmitted, g2 = kNotEmitted;
+      std::uint8_t seen = 0;
+      for (int n = 0; n < 3; ++n) {
+        const std::uint32_t j = sq[n];
+        if (!is_op(j, Op::Square)) return kNotEmitted;
+        std::uint32_t o = src[j].a;
+        int k = 0;
+        double alpha = 0;
+        const SsaInstr& t = src[o];
+        // g1 A + g2 B, each product in either order, A and B affine in the same axis.
+        const auto product = [&](std::uint32_t m, std::uint32_t& gm, std::uint32_t& v) {
+          const SsaInstr& u = src[m];
+          if (u.op != Op::Mul) return false;
+          if (affine[u.b] && !affine[u.a]) return gm = u.a, v = u.b, true;
+          if (affine[u.a] && !affine[u.b]) return gm = u.b, v = u.a, true;
+          return false;
+        };
+        std::uint32_t ga, gb, va, vb;
+        if (!affine[o] && t.op == Op::Add && product(t.a, ga, va) && product(t.b, gb, vb) && (n == 0 || g1 != kNotEmitted)) {
+          int kb = 0;
+          double alpha_b = 0, pa = 0, pb = 0;
+          if (!one_axis(va, k, alpha, pa) || !one_axis(vb, kb, alpha_b, pb) || kb != k || !same(alpha_b, alpha))
+            return kNotEmitted;
+          if (n > 0 && (ga != g1 || gb != g2)) return kNotEmitted;
+          g1 = ga, g2 = gb;
+          a[k] = pa, b[k] = pb;
+        } else {
+          if (g1 != kNotEmitted) return kNotEmitted;
+          std::uint32_t gk = kNotEmitted;
+          double ck = 0;
+          if (!affine[o]) {  // alpha (x_k - a_k) + g c_k
+            if (t.op != Op::Add && t.op != Op::Sub) return kNotEmitted;
+            if (!affine[t.a] || !scaled(t.b, gk, ck)) return kNotEmitted;
+            if (t.op == Op::Sub) ck = -ck;
+            if (g != kNotEmitted && gk != g) return kNotEmitted;
+            g = gk;
+            o = t.a;
+          }
+          double at = 0;
+          if (!one_axis(o, k, alpha, at)) return kNotEmitted;
+          a[k] = at;
+          // The sign of alpha moves to c_k (the square does not see it).
+          c[k] = alpha > 0 ? ck : -ck;
+        }
+        if (seen & (1u << k)) return kNotEmitted;
+        seen = static_cast<std::uint8_t>(seen | (1u << k));
         // Equal scales up to the rounding of the rotation's rows (unit to about 1e-16).
         if (scale == 0) scale = std::fabs(alpha);
-        else if (!(std::fabs(std::fabs(alpha) - scale) <= 1e-12 * scale)) return kNotEmitted;
-        // alpha x_k + beta = alpha (x_k - a_k), beta the constant at the model origin; the sign
-        // of alpha moves to c_k (the square does not see it).
-        const double beta = f.c[3] - alpha * cam.center[k];
-        a[k] = -beta / alpha;
-        c[k] = alpha > 0 ? ck : -ck;
+        else if (!same(std::fabs(alpha), scale)) return kNotEmitted;
       }
-      if (!std::isfinite(length2(a)) || !std::isfinite(length2(c))) return kNotEmitted;
-      const Vec3 d = a - cam.center;
-      const double ap[3] = {dot(d, cam.right), dot(d, cam.up), dot(d, cam.toward)};
+      const bool two = g1 != kNotEmitted;
+      if (!std::isfinite(length2(a)) || !std::isfinite(length2(c)) || (two && !std::isfinite(length2(b))))
+        return kNotEmitted;
+      // alpha (q_j - a'_j) in view axis j, with a' = R^T (a - center): the same instructions for
+      // the same point in every form.
+      const auto offset = [&](const Vec3& point, int j) {
+        const Vec3 d = point - cam.center;
+        const double ap[3] = {dot(d, cam.right), dot(d, cam.up), dot(d, cam.toward)};
+        const float off = static_cast<float>(-ap[j]);
+        std::uint32_t r = off == 0 ? uvw[j] : emit(Op::Add, uvw[j], emit(Op::Const, 0, 0, off));
+        if (scale != 1) r = emit(Op::Mul, r, emit(Op::Const, 0, 0, static_cast<float>(scale)));
+        return r;
+      };
       const double cp[3] = {dot(c, cam.right), dot(c, cam.up), dot(c, cam.toward)};
       const std::uint32_t ge = g == kNotEmitted ? 0 : map[g];
       std::uint32_t sum = 0;
       for (int j = 0; j < 3; ++j) {
-        const float off = static_cast<float>(-ap[j]);
-        std::uint32_t t = off == 0 ? uvw[j] : emit(Op::Add, uvw[j], emit(Op::Const, 0, 0, off));
-        if (scale != 1) t = emit(Op::Mul, t, emit(Op::Const, 0, 0, static_cast<float>(scale)));
-        const float cj = static_cast<float>(cp[j]);
-        if (g != kNotEmitted && cj != 0)
-          t = emit(Op::Add, t, cj == 1 ? ge : emit(Op::Mul, ge, emit(Op::Const, 0, 0, cj)));
-        const std::uint32_t t2 = emit(Op::Square, t);
-        sum = j == 0 ? t2 : emit(Op::Add, sum, t2);
+        std::uint32_t r;
+        if (two) {
+          r = emit(Op::Add, emit(Op::Mul, map[g1], offset(a, j)), emit(Op::Mul, map[g2], offset(b, j)));
+        } else {
+          r = offset(a, j);
+          const float cj = static_cast<float>(cp[j]);
+          if (g != kNotEmitted && cj != 0) r = emit(Op::Add, r, cj == 1 ? ge : emit(Op::Mul, ge, emit(Op::Const, 0, 0, cj)));
+        }
+        const std::uint32_t r2 = emit(Op::Square, r);
+        sum = j == 0 ? r2 : emit(Op::Add, sum, r2);
       }
       return sum;
     };

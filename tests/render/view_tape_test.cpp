@@ -147,6 +147,42 @@ TEST(ViewTape, ConvertedMeshMatchesFromARotatedView) {
   expect_same_values(t, bounds, 40, -25, 1e-5, "converted cube");
 }
 
+// Converted meshes need exact ties: beyond the end of a crease edge, its clamped distance equals
+// the end vertex's, and where the vertex has a term of its own, that term must win (the edge's
+// sign does not hold there). The view tape rewrites both squared distances; written differently
+// (an edge interpolated between two vertex terms used to be left in model coordinates, whose
+// rounding far from the origin is coarser than the vertex's shrink), the edge won and whole
+// regions came out inside. A bumpy sphere (saddles, so vertex terms) far from the origin.
+TEST(ViewTape, ConvertedMeshKeepsItsSignsFarFromTheOrigin) {
+  TriMesh mesh = test::make_sphere(2);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> bump(0.7, 1.3);
+  for (Vec3& v : mesh.vertices) v = v * bump(rng) + Vec3{1800, 2400, 600};
+  const ConvertResult r = convert_mesh(mesh, {});
+  const Tape t = Tape::compile(*r.model.graph, r.model.root);
+  Box3 bounds = r.model.info.bounds;
+  bounds = bounds.inflated(0.5);
+  PointEvaluator pe;
+  std::uniform_real_distribution<double> unit(-1, 1);
+  int wrong = 0, total = 0;
+  for (double yaw : {45.0, 120.0})
+    for (double pitch : {35.26, -20.0}) {
+      const Camera cam = camera(bounds, yaw, pitch);
+      const Tape view = view_tape(t, cam, bounds);
+      for (int i = 0; i < 1500; ++i) {
+        const float u = static_cast<float>(unit(rng) * cam.half_u), v = static_cast<float>(unit(rng) * cam.half_v),
+                    w = static_cast<float>(unit(rng) * cam.half_w);
+        const double got = pe.eval(view, u, v, w), want = reference(pe, t, cam, bounds, u, v, w);
+        if (std::fabs(want) < 1e-4) continue;
+        ++total;
+        if ((got < 0) != (want < 0) && wrong++ < 5)
+          ADD_FAILURE() << "yaw " << yaw << ", pitch " << pitch << " at view (" << u << ", " << v << ", " << w
+                        << "): " << got << ", model " << want;
+      }
+    }
+  EXPECT_EQ(wrong, 0) << "of " << total;
+}
+
 // Under rotation, a plane through the view's variables is bounded over a view box by its exact
 // range (up to rounding), not by the range over the box's axis-aligned hull in model space.
 TEST(ViewTape, PlanesAreBoundedExactlyUnderRotation) {
