@@ -4,6 +4,7 @@
 
 #include <new>
 #include <stdexcept>
+#include <string>
 
 #include "commands.hpp"
 #include "frep/error.hpp"
@@ -39,6 +40,25 @@ TEST(ExitCodes, EveryOutcomeHasItsCode) {
   EXPECT_EQ(run_with({"throw-internal"}), kInternal);
   EXPECT_EQ(run_with({"throw-std"}), kInternal);
   EXPECT_EQ(run_with({"throw-other"}), kInternal);
+}
+
+TEST(ExitCodes, CommandLineMistakesAreNamed) {
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(run_with({"rendr", "x.vm"}), kUsage);
+  std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("unknown command 'rendr'"), std::string::npos) << err;
+  EXPECT_NE(err.find("render"), std::string::npos) << err;
+
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(run_with({"info", ""}), kUsage);
+  err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("argument 2 (after 'info') is empty"), std::string::npos) << err;
+
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(run_with({}), kUsage);
+  err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("no command given"), std::string::npos) << err;
+  EXPECT_NE(err.find("Subcommands"), std::string::npos) << err;  // the help, listing them
 }
 
 }  // namespace
