@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <limits>
 
 #include "commands.hpp"
 #include "input.hpp"
@@ -28,7 +29,9 @@ void register_eval(CLI::App& app) {
   cmd->add_flag("--grad,-g", a->grad, "Also print d/dx d/dy d/dz after each value");
   cmd->callback([a] {
     const Model m = load_input(a->file);
-    const PointColumns<float> p = parse_points_f32(read_points_text(a->points), points_source_name(a->points));
+    // Coordinates beyond float32 would be infinite: refused, as by sdf.
+    const PointColumns<float> p = parse_points_f32(read_points_text(a->points), points_source_name(a->points),
+                                                   std::numeric_limits<float>::max());
     const Tape tape = Tape::compile(*m.graph, m.root);
     const std::size_t n = p.x.size();
     std::string out;

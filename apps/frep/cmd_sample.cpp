@@ -4,10 +4,12 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <optional>
 
 #include "commands.hpp"
 #include "input.hpp"
+#include "frep/util/memory_budget.hpp"
 #include "frep/error.hpp"
 #include "frep/io/load.hpp"
 #include "frep/io/npy.hpp"
@@ -89,9 +91,23 @@ void register_sample(CLI::App& app) {
       throw CLI::ValidationError("frep sample", "give --grid N, --points P or --near-surface K --sigma S");
     std::optional<Box3> bounds;
     if (!a->bounds.empty()) bounds = parse_bounds(a->bounds);
+    const std::filesystem::path out(a->output);
+    if (out.extension() != ".npy")
+      throw CLI::ValidationError("--output", "frep sample writes NumPy .npy files: name the output X.npy (got " +
+                                                 a->output + ")");
     check_output(a->output, {a->input});
     const auto t0 = std::chrono::steady_clock::now();
-    const std::size_t work = a->grid ? std::size_t(a->grid) * a->grid * a->grid : a->points + a->near;
+    // Both kinds of points are held at once, with a copy: refuse what cannot fit before starting
+    // (a sum that wraps would pass).
+    const std::uint64_t total_points = a->points > UINT64_MAX - a->near ? UINT64_MAX : a->points + a->near;
+    if (!a->grid) {
+      try {
+        require_memory(total_points, 32, "sampling " + std::to_string(total_points) + " points", "sample fewer points");
+      } catch (const InputError& e) {
+        throw InputError(a->input, 0, e.detail());
+      }
+    }
+    const std::size_t work = a->grid ? std::size_t(a->grid) * a->grid * a->grid : total_points;
     const bool show = !a->quiet && work >= (std::size_t(1) << 21);
     int last = -1;
     auto progress = [show, &last](const char* stage, double f) {

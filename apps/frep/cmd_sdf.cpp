@@ -36,7 +36,7 @@ void register_sdf(CLI::App& app) {
   cmd->add_option("--threads", a->threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0, 1024));
   cmd->callback([a] {
     const PointColumns<double> p =
-        parse_points_f64(read_points_text(a->points), points_source_name(a->points), /*require_finite=*/true);
+        parse_points_f64(read_points_text(a->points), points_source_name(a->points), kMaxQueryCoordinate);
     MeshDistanceOptions opt;
     opt.weld_tolerance = a->weld_tolerance;
     TriMesh mesh = read_mesh_noting(a->file);

@@ -302,7 +302,18 @@ MeshDistance::~MeshDistance() = default;
 
 std::size_t MeshDistance::num_triangles() const { return d_->tri.size(); }
 
+namespace {
+// Queries whose squared distances stay finite (meshes are limited to 1e100, check_range).
+// Beyond, including infinities and NaN, every answer is NaN: the searches would compare
+// infinities and NaNs and could not end.
+bool query_in_range(const Vec3& p) {
+  return std::fabs(p.x) <= kMaxQueryCoordinate && std::fabs(p.y) <= kMaxQueryCoordinate &&
+         std::fabs(p.z) <= kMaxQueryCoordinate;
+}
+}  // namespace
+
 ClosestPoint MeshDistance::closest_point(const Vec3& p) const {
+  if (!query_in_range(p)) return {NAN, p, 0, Feature::Face};
   // The SIMD search finds the nearest triangle; its closest point and feature come from the
   // scalar region test (the pseudonormal sign needs the feature).
   double d2 = INFINITY;
@@ -327,6 +338,7 @@ ClosestPoint MeshDistance::closest_point_on(const Vec3& p, std::uint32_t triangl
 }
 
 double MeshDistance::winding_number(const Vec3& p) const {
+  if (!query_in_range(p)) return NAN;
   return mesh_detail::solid_angle_sum(d_->wide.data(), d_->dipoles.data(), d_->packets.data(), p) / kFourPi;
 }
 
@@ -358,7 +370,7 @@ int MeshDistance::pseudonormal_sign(const Vec3& p, const ClosestPoint& c) const 
 
 double MeshDistance::signed_distance(const Vec3& p, SignMethod method) const {
   const ClosestPoint c = closest_point(p);
-  if (c.distance == 0) return 0;
+  if (c.distance == 0 || std::isnan(c.distance)) return c.distance;
   if (method == SignMethod::Pseudonormal) {
     const int s = pseudonormal_sign(p, c);
     if (s != 0) return s * c.distance;

@@ -69,7 +69,7 @@ std::vector<T> sample_mesh(const MeshField& field, const GridSpec& grid, const M
                                field.summary() + ")");
   // The output, and the transform's nearest squared distance (double) and owner per sample.
   const std::uint64_t per_sample = sizeof(T) + (stats.method == MeshGridMethod::Cpt ? 12 : 0);
-  require_memory(grid.size() * per_sample, grid_job(grid), "sample a smaller grid");
+  require_memory(grid.size(), per_sample, grid_job(grid), "sample a smaller grid");
   std::vector<T> out(grid.size());
   ThreadPool pool(o.threads);
   if (stats.method == MeshGridMethod::Cpt) {
@@ -116,7 +116,7 @@ std::vector<float> sample_grid(const Tape& tape, const GridSpec& grid, const Exp
     coords[a].resize(static_cast<std::size_t>(grid.counts[a]));
     for (int i = 0; i < grid.counts[a]; ++i) coords[a][static_cast<std::size_t>(i)] = static_cast<float>(grid.coord(a, i));
   }
-  require_memory(grid.size() * sizeof(float), grid_job(grid), "sample a smaller grid");
+  require_memory(grid.size(), sizeof(float), grid_job(grid), "sample a smaller grid");
   std::vector<float> out(grid.size());
   SampleGrid sg;
   sg.coords = std::move(coords);

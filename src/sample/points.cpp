@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "frep/error.hpp"
 #include "frep/eval/point_cloud.hpp"
@@ -78,8 +79,18 @@ void set_point(std::vector<float>& rows, std::size_t i, const Vec3& p) {
 
 // Refuses a point count whose rows (16 bytes each) and scratch would not fit in memory.
 void check_count(std::size_t count, std::uint64_t bytes_per_point) {
-  require_memory(static_cast<std::uint64_t>(count) * bytes_per_point, "sampling " + std::to_string(count) + " points",
-                 "sample fewer points");
+  require_memory(count, bytes_per_point, "sampling " + std::to_string(count) + " points", "sample fewer points");
+}
+
+// A point moved by the noise must stay a float32 point (rows are float32).
+void set_noisy_point(std::vector<float>& rows, std::size_t i, const Vec3& p, double sigma) {
+  set_point(rows, i, p);
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(rows[4 * i + static_cast<std::size_t>(k)])) {
+      char msg[160];
+      std::snprintf(msg, sizeof msg, "sigma %g moves points beyond the range of 32-bit floats; give a smaller --sigma", sigma);
+      throw InputError("", 0, msg);
+    }
 }
 
 std::vector<float> uniform_rows(const Box3& b, std::size_t count, std::uint64_t seed) {
@@ -126,7 +137,7 @@ std::vector<float> sample_near_surface(const MeshField& field, std::size_t count
     Vec3 p = m.corner(t, 0) * (1 - s) + m.corner(t, 1) * (s * (1 - r2)) + m.corner(t, 2) * (s * r2);
     Rng g(o.seed, kNoise, i);
     p += Vec3{g.gaussian(), g.gaussian(), g.gaussian()} * sigma;
-    set_point(rows, i, p);
+    set_noisy_point(rows, i, p, sigma);
   }
   mesh_distances(field, rows, o.threads);
   return rows;
@@ -143,7 +154,7 @@ std::vector<float> sample_uniform(const Tape& tape, const Box3& bounds, std::siz
 std::vector<float> sample_near_surface(const Tape& tape, const Box3& bounds, std::size_t count, double sigma,
                                        const PointSampleOptions& o) {
   check_sigma(sigma);
-  check_count(count, 32);
+  check_count(count, 32 + 4 * 28);  // rows, and rounds of 4 seed points each (coordinates, gradients)
   check_box(bounds);
   const float tol = static_cast<float>(1e-6 * length(bounds.size()));
   PointCloudOptions po;
@@ -187,7 +198,7 @@ std::vector<float> sample_near_surface(const Tape& tape, const Box3& bounds, std
   for (std::size_t i = 0; i < count; ++i) {
     Rng g(o.seed, kNoise, i);
     const Vec3 p = Vec3(surface[i]) + Vec3{g.gaussian(), g.gaussian(), g.gaussian()} * sigma;
-    set_point(rows, i, p);
+    set_noisy_point(rows, i, p, sigma);
   }
   tape_distances(tape, rows, o.threads);
   return rows;

@@ -302,13 +302,18 @@ TEST_F(Cli, FailedRenderKeepsAnExistingOutputIntact) {
 TEST_F(Cli, OutputsNeverReplaceTheInputAndFailEarly) {
   const std::string vm = test::shell_quote(circle_), before = test::read_text(circle_);
   fs::create_symlink(circle_, path("alias.vm"));
-  for (const std::string& out : {circle_, path("alias.vm"), path("./circle.vm")})
+  fs::create_symlink(circle_, path("alias.npy"));  // frep sample writes .npy files only
+  for (const std::string& out : {circle_, path("alias.vm"), path("./circle.vm"), path("alias.npy")})
     for (const std::string& cmd : {"sample " + vm + " --grid 4", "export " + vm + " -f c", "offset " + vm + " 0.1"}) {
+      if ((cmd.rfind("sample", 0) == 0) != (out == path("alias.npy"))) continue;
       const RunResult r = run(cmd + " -o " + test::shell_quote(out));
       EXPECT_EQ(r.code, 1) << cmd << " -o " << out << "\n" << r.err;
       EXPECT_NE(r.err.find("writing it would replace the input"), std::string::npos) << cmd << "\n" << r.err;
       EXPECT_EQ(test::read_text(circle_), before) << cmd;
     }
+  const RunResult png = run("sample " + vm + " --grid 4 -o " + test::shell_quote(path("grid.png")));
+  EXPECT_EQ(png.code, 2) << png.err;
+  EXPECT_NE(png.err.find("writes NumPy .npy files"), std::string::npos) << png.err;
   for (const std::string& cmd : {"convert " + test::shell_quote(FREP_SOURCE_DIR "/examples/bracket.obj") + " -o " +
                                      test::shell_quote(path("nodir/out.frep")),
                                  "sample " + vm + " --grid 4 -o " + test::shell_quote(path("nodir/out.npy"))}) {

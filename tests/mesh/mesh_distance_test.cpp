@@ -100,6 +100,18 @@ TEST(MeshDistance, DegenerateTrianglesGiveFiniteDistances) {
   }
 }
 
+// Queries beyond kMaxQueryCoordinate, infinite or NaN: NaN, promptly (an infinite point used to
+// keep the search running forever).
+TEST(MeshDistance, QueriesOutOfRangeAreNaN) {
+  const MeshDistance md(test::make_box());
+  for (const Vec3& p : {Vec3{1e155, 0, 0}, Vec3{0, -INFINITY, 0}, Vec3{0, 0, NAN}, Vec3{INFINITY, INFINITY, 1}}) {
+    EXPECT_TRUE(std::isnan(md.unsigned_distance(p)));
+    EXPECT_TRUE(std::isnan(md.signed_distance(p, SignMethod::Pseudonormal)));
+    EXPECT_TRUE(std::isnan(md.signed_distance(p, SignMethod::WindingNumber)));
+  }
+  EXPECT_NEAR(md.signed_distance({1e149, 0, 0}, SignMethod::Pseudonormal), 1e149, 1e135);
+}
+
 TEST(MeshDistance, AnalyticBox) {
   const Vec3 half{1.5, 0.5, 1};
   const TriMesh box = test::make_fine_box(4, -half, half);
@@ -363,7 +375,16 @@ TEST(MeshCli, CheckAndSdf) {
   { std::ofstream(pts) << "1 2 3\n4 nan 6\n"; }
   out = run(std::string(FREP_CLI_PATH) + " sdf " + good + " -p " + pts, st);
   EXPECT_EQ(st, 1);
-  EXPECT_NE(out.find("frep_cli_pts.txt:2: coordinate 'nan' is not a finite number"), std::string::npos) << out;
+  EXPECT_NE(out.find("frep_cli_pts.txt:2: coordinate 'nan' is not a number"), std::string::npos) << out;
+  // So does one whose squared distance would overflow (it printed nan), and a missing value.
+  { std::ofstream(pts) << "1 2 3\n1e155 0 0\n"; }
+  out = run(std::string(FREP_CLI_PATH) + " sdf " + good + " -p " + pts, st);
+  EXPECT_EQ(st, 1);
+  EXPECT_NE(out.find("frep_cli_pts.txt:2: coordinate '1e155' is out of range"), std::string::npos) << out;
+  { std::ofstream(pts) << "1,,2\n"; }
+  out = run(std::string(FREP_CLI_PATH) + " sdf " + good + " -p " + pts, st);
+  EXPECT_EQ(st, 1);
+  EXPECT_NE(out.find("frep_cli_pts.txt:1: a value is missing"), std::string::npos) << out;
   // Usage errors exit 2.
   run(std::string(FREP_CLI_PATH) + " sdf " + good + " -p " + pts + " --weld-tolerance nan", st);
   EXPECT_EQ(st, 2);

@@ -197,6 +197,18 @@ TEST(SamplePoints, MeshPoints) {
   EXPECT_NE(sample_near_surface(field, 20000, sigma, one), near);
 }
 
+// Noise that moves points beyond float32 is refused (an infinite point used to hang the mesh
+// oracle, and expressions wrote rows of inf and nan); so are point counts whose memory overflows.
+TEST(SamplePoints, AbsurdSigmaAndCountsAreRefused) {
+  const MeshField field(test::make_box());
+  EXPECT_THROW(sample_near_surface(field, 50, 1e39, {}), InputError);
+  Graph g;
+  const Tape tape = Tape::compile(g, (sqrt(square(g.x()) + square(g.y()) + square(g.z())) - 0.5f).id());
+  EXPECT_THROW(sample_near_surface(tape, {{-1, -1, -1}, {1, 1, 1}}, 50, 1e300, {}), InputError);
+  EXPECT_THROW(sample_uniform(field, {{-1, -1, -1}, {1, 1, 1}}, std::size_t(1) << 62, {}), InputError);
+  EXPECT_THROW(sample_uniform(tape, {{-1, -1, -1}, {1, 1, 1}}, std::size_t(1) << 63, {}), InputError);
+}
+
 TEST(SamplePoints, ExpressionPoints) {
   Graph g;
   const Expr x = g.x(), y = g.y(), z = g.z();

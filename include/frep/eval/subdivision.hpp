@@ -49,7 +49,9 @@ struct SampleGrid {
   }
   IndexBox whole() const { return {{0, 0, 0}, {count(0), count(1), count(2)}}; }
   // Throws InputError (naming `what`, the region's use) unless every coordinate is a finite
-  // float: a region beyond 32-bit floats would be evaluated at infinities.
+  // float (a region beyond 32-bit floats would be evaluated at infinities) and each axis's
+  // coordinates are distinct when it has more than two (samples rounded to one float would all
+  // get one value; two equal coordinates make a plane of cells, as slices use).
   void check(const char* what) const;
   // The coordinate range a box covers along an axis.
   Interval range(int axis, int lo, int hi) const {

@@ -36,6 +36,10 @@ struct ClosestPoint {
 class MeshTopology;
 class TriangleBvh;
 
+// Largest query coordinate (absolute) a MeshDistance answers: its squares stay finite in double.
+// Farther points, infinities and NaN get NaN.
+inline constexpr double kMaxQueryCoordinate = 1e150;
+
 class MeshDistance {
  public:
   // Welds the mesh (options.weld_tolerance), then builds as below. Throws InputError for a mesh

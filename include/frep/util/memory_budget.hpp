@@ -11,8 +11,9 @@ namespace frep {
 // Physical memory in bytes (sysconf), or 0 when it cannot be told.
 std::uint64_t physical_memory_bytes();
 
-// Throws InputError without a file name (callers add theirs) when `bytes` exceed the physical
+// Throws InputError without a file name (callers add theirs) when `count` items of `bytes_each`
+// bytes (the product saturates instead of wrapping) exceed the physical
 // memory: "<job> needs about N GB of memory, more than this machine's M GB: <advice>".
-void require_memory(std::uint64_t bytes, const std::string& job, const std::string& advice);
+void require_memory(std::uint64_t count, std::uint64_t bytes_each, const std::string& job, const std::string& advice);
 
 }  // namespace frep
