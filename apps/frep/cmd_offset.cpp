@@ -39,15 +39,14 @@ void register_offset(CLI::App& app) {
     check_field_output(a->output, a->input);
     Model m = load_input(a->input);
     o->lipschitz = lipschitz_of(m, o->lipschitz);  // an offset keeps it
-    // Only a mesh output needs the region (an expression is saved whatever its bounds).
-    const Box3 region = is_mesh_output(a->output)
-                            ? input_region(a->input, m.info, Tape::compile(*m.graph, m.root), *o)
-                                  .inflated(o->bounds.empty() ? std::max(a->distance, 0.0) : 0.0)
-                            : Box3{};
     const Expr result = ugf::offset(m.root_expr(), static_cast<float>(a->distance));
-    // The result's inside is the input's grown by the distance (shrunk boxes stay valid).
+    const Tape result_tape = Tape::compile(*m.graph, result.id());
+    // For a distance, the result's inside is the input's grown by the distance (shrunk boxes stay
+    // valid); checked, since other fields reach farther.
     FieldInfo info{std::max(0.0, o->lipschitz), {}};
-    if (!m.info.bounds.empty()) info.bounds = m.info.bounds.inflated(std::max(a->distance, 0.0));
+    info.bounds = checked_growth(result_tape, m.info.bounds.inflated(std::max(a->distance, 0.0)));
+    // Only a mesh output needs the region (an expression is saved whatever its bounds).
+    const Box3 region = is_mesh_output(a->output) ? input_region(a->input, info, result_tape, *o) : Box3{};
     write_field_output(a->input, a->output, *m.graph, result.id(), region, *o, info);
   });
 }

@@ -50,12 +50,13 @@ void register_shell(CLI::App& app) {
     const Expr f = m.root_expr();
     const bool outward = a->side == "outward", inward = a->side == "inward";
     const Expr result = inward ? ugf::shell_inward(f, t) : outward ? ugf::shell_outward(f, t) : ugf::shell(f, t);
-    // The wall's inside: within the input's box grown by what the wall adds outside.
+    // The wall's inside: for a distance, within the input's box grown by what the wall adds
+    // outside; checked, since other fields reach farther.
+    const Tape result_tape = Tape::compile(*m.graph, result.id());
     FieldInfo info{std::max(0.0, o->lipschitz), {}};
-    if (!m.info.bounds.empty()) info.bounds = m.info.bounds.inflated(inward ? 0.0 : outward ? a->thickness : a->thickness / 2);
+    info.bounds = checked_growth(result_tape, m.info.bounds.inflated(inward ? 0.0 : outward ? a->thickness : a->thickness / 2));
     if (is_mesh_output(a->output)) {
-      const double grow = o->bounds.empty() ? (inward ? 0.0 : outward ? a->thickness : a->thickness / 2) : 0.0;
-      const Box3 region = input_region(a->input, m.info, Tape::compile(*m.graph, m.root), *o).inflated(grow);
+      const Box3 region = input_region(a->input, info, result_tape, *o);
       const Vec3 size = region.size();
       const double longest = std::max({size.x, size.y, size.z});
       // Without --resolution, the wall gets at least 3 cells across (up to 1024 cells), since

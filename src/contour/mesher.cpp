@@ -133,15 +133,18 @@ TriMesh Mesher::mesh(const Tape& tape) {
     cut.hi[a] = std::min(round_f32(cut.hi[a]), grid.box.hi[a]);
   }
   const Tape closed = close_at_box(tape, cut);
+  // The cut max(f, box) has the box distance's Lipschitz constant 1 where it applies: a smaller
+  // L for f alone would settle boxes wrongly there (a region wholly inside came out empty).
+  const double lipschitz = o.lipschitz > 0 ? std::max(o.lipschitz, 1.0) : o.lipschitz;
 
   // Subdivision and leaves.
   auto t1 = Clock::now();
-  const std::vector<int> tiles = o.tiles.empty() ? default_tiles(*std::max_element(grid.n.begin(), grid.n.end()), o.lipschitz > 0 ? 2 : 4) : o.tiles;
-  if (!impl_->sub || impl_->sub->options().tiles != tiles || impl_->sub->options().lipschitz != o.lipschitz) {
+  const std::vector<int> tiles = o.tiles.empty() ? default_tiles(*std::max_element(grid.n.begin(), grid.n.end()), lipschitz > 0 ? 2 : 4) : o.tiles;
+  if (!impl_->sub || impl_->sub->options().tiles != tiles || impl_->sub->options().lipschitz != lipschitz) {
     SubdivisionOptions so;
     so.tiles = tiles;
     so.threads = o.threads;
-    so.lipschitz = o.lipschitz;
+    so.lipschitz = lipschitz;
     impl_->sub.reset();  // one pool at a time
     impl_->sub = std::make_unique<Subdivider>(so);
   }

@@ -214,7 +214,10 @@ Renderer3D::Renderer3D(Render3DOptions options) : options_(std::move(options)) {
   // One level breadth first: the driver keeps every frontier box's simplified tape, and in 3D
   // two levels make thousands of them (gigabytes for a million-node expression).
   so.breadth_first_levels = 1;
-  so.lipschitz = options_.lipschitz;  // the view is a rotation: distances are the model's
+  // The view is a rotation: distances are the model's. A rotated view is cut at the bounds by
+  // max(f, box), and the box's distance has Lipschitz constant 1: with a smaller L for f, boxes
+  // would settle from a cut value growing faster than L allows (half a sphere went missing).
+  so.lipschitz = options_.lipschitz > 0 && !camera_.axis_aligned ? std::max(options_.lipschitz, 1.0) : options_.lipschitz;
   subdivider_ = std::make_unique<Subdivider>(so);
   for (int i = 0; i < subdivider_->workers(); ++i) workers_.push_back(std::make_unique<Worker>());
 }

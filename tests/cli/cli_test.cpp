@@ -324,6 +324,31 @@ TEST_F(Cli, OutputsNeverReplaceTheInputAndFailEarly) {
   }
 }
 
+// A field that is not an exact distance: 0.1 (|p| - 1), truthfully declared with L = 0.1.
+// Meshing a region wholly inside gives the capped region (the cut has slope 1: it came out
+// empty), and an offset does not carry a box grown by the distance (the result reaches 10x
+// farther: later commands cut it there). An exact distance's offset keeps its grown box.
+TEST_F(Cli, FieldsThatAreNotDistancesKeepTheirShape) {
+  const std::string sphere = "_0 var-x\n_1 var-y\n_2 var-z\n_3 square _0\n_4 square _1\n_5 square _2\n_6 add _3 _4\n"
+                             "_7 add _6 _5\n_8 sqrt _7\n_9 const 1\n_a sub _8 _9\n";
+  write("slow.vm", "# frep: lipschitz 0.1\n# frep: bounds -1 -1 -1 1 1 1\n" + sphere + "_b const 0.1\n_c mul _a _b\n");
+  write("exact.vm", "# frep: lipschitz 1\n# frep: bounds -1 -1 -1 1 1 1\n" + sphere);
+  RunResult r = run("mesh " + test::shell_quote(path("slow.vm")) + " --bounds=-0.5,-0.5,-0.5,0.5,0.5,0.5 -r 8 -o " +
+                    test::shell_quote(path("cube.stl")));
+  EXPECT_EQ(r.code, 0) << r.err;
+  r = run("offset " + test::shell_quote(path("slow.vm")) + " 0.5 -o " + test::shell_quote(path("grown.vm")));
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(test::read_text(path("grown.vm")).find("frep: bounds"), std::string::npos) << test::read_text(path("grown.vm"));
+  r = run("offset " + test::shell_quote(path("exact.vm")) + " 0.5 -o " + test::shell_quote(path("grown_exact.vm")));
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(test::read_text(path("grown_exact.vm")).find("frep: bounds"), std::string::npos);
+  // Meshed, the slow offset is whole: its radius is 6 (0.1 (r - 1) = 0.5).
+  r = run("offset " + test::shell_quote(path("slow.vm")) + " 0.5 -r 24 -o " + test::shell_quote(path("grown.stl")));
+  EXPECT_EQ(r.code, 0) << r.err;
+  r = run("check " + test::shell_quote(path("grown.stl")));
+  EXPECT_NE(r.out.find("box: (-5.99"), std::string::npos) << r.out;
+}
+
 // An empty picture says which region it showed: usually the shape is elsewhere.
 TEST_F(Cli, EmptyPicturesSayWhy) {
   write("far.vm", "_0 var-x\n_1 const 3\n_2 sub _0 _1\n_3 square _2\n_4 var-y\n_5 square _4\n_6 var-z\n"

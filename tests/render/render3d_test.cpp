@@ -321,6 +321,20 @@ TEST(Render3D, LipschitzBoundOnExactDistancesEqualsBruteForce) {
   expect_equals_brute_force(sphere_tape(g, {0.1, -0.2, 0.05}, 0.6), o, true, "sphere");
 }
 
+// A true bound below 1 (a scaled distance): a rotated view is cut by max(f, box), whose box part
+// has slope 1, so the renderer settles with max(L, 1). It used to settle with L and lose half of
+// the sphere (cut or not).
+TEST(Render3D, LipschitzBoundBelowOneEqualsBruteForce) {
+  Graph g;
+  const Expr x = g.x(), y = g.y(), z = g.z();
+  const Tape t = Tape::compile(g, ((sqrt(square(x) + square(y) + square(z)) - 0.6f) * 0.1f).id());
+  for (double yaw : {0.0, 30.0}) {
+    Render3DOptions o = options(48, yaw == 0 ? ViewDirection::Front : ViewDirection::Iso, yaw);
+    o.lipschitz = 0.1;
+    expect_equals_brute_force(t, o, true, "sphere scaled by 0.1");
+  }
+}
+
 // A Lipschitz bound the field breaks (a user's wrong --lipschitz, or an exact distance whose
 // float evaluation flips a sign) settles boxes inside whose front neighbours find no crossing:
 // the picture may be wrong, but every pixel with an inside sample still gets a depth, and the
