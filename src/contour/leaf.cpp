@@ -60,6 +60,25 @@ bool LeafMesher::process(const Tape& tape, const IndexBox& box, LeafRecord& out)
   }
   batch_.eval(tape, xs_.data(), ys_.data(), zs_.data(), values_.data(), corners);
   {
+    // Exact zeros inside the grid, next to another along a cell edge: a face or an edge of the
+    // shape lies on grid lines (the grid's boundary is 0 where the cut closes the shape, on
+    // purpose; a lone zero, a smooth surface through a corner, is harmless).
+    const auto interior = [&](int x, int y, int z) {
+      return box.lo[0] + x > 0 && box.lo[0] + x < grid_.n[0] && box.lo[1] + y > 0 && box.lo[1] + y < grid_.n[1] &&
+             box.lo[2] + z > 0 && box.lo[2] + z < grid_.n[2];
+    };
+    std::size_t k = 0;
+    for (int z = 0; z < cz; ++z)
+      for (int y = 0; y < cy_; ++y)
+        for (int x = 0; x < cx_; ++x, ++k) {
+          if (values_[k] != 0 || !interior(x, y, z)) continue;
+          const bool pair = (x + 1 < cx_ && values_[k + 1] == 0 && interior(x + 1, y, z)) ||
+                            (y + 1 < cy_ && values_[k + stride_[1]] == 0 && interior(x, y + 1, z)) ||
+                            (z + 1 < cz && values_[k + stride_[2]] == 0 && interior(x, y, z + 1));
+          zero_corners_ += pair;
+        }
+  }
+  {
     bool in = false, outside = false;
     for (std::size_t k = 0; k < corners; ++k) (values_[k] < 0 ? in : outside) = true;
     if (!in || !outside) return false;

@@ -75,6 +75,9 @@ class LeafMesher {
   // Processes one leaf box with its simplified tape; returns false (record untouched but for
   // the scratch) if no cell in it has a sign change.
   bool process(const Tape& tape, const IndexBox& box, LeafRecord& out);
+  // Corners inside the grid (not on its boundary) where the field was exactly 0, next to another
+  // such corner along a cell edge, over every call.
+  std::uint64_t zero_corners() const { return zero_corners_; }
 
  private:
   struct Crossing {
@@ -92,6 +95,7 @@ class LeafMesher {
   const MeshGrid& grid_;
   Box3 cut_;
   const MeshOptions& o_;
+  std::uint64_t zero_corners_ = 0;
   BatchEvaluator batch_;
   GradEvaluator grad_;
   SurfaceSnapper snapper_;

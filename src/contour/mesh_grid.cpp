@@ -10,7 +10,8 @@
 
 namespace frep::contour {
 
-MeshGrid make_grid(const Box3& region, double h, int margin) {
+MeshGrid make_grid(const Box3& region, double h, int margin, double shift) {
+  constexpr double kShiftAxis[3] = {1.0, 0.71, 0.43};
   MeshGrid g;
   g.h = h;
   for (int a = 0; a < 3; ++a) {
@@ -26,7 +27,7 @@ MeshGrid make_grid(const Box3& region, double h, int margin) {
     }
     const int n = std::max(1, static_cast<int>(cells)) + 2 * margin;
     g.n[static_cast<std::size_t>(a)] = n;
-    const double lo = 0.5 * (region.lo[a] + region.hi[a]) - 0.5 * n * h;
+    const double lo = 0.5 * (region.lo[a] + region.hi[a]) - 0.5 * n * h + shift * kShiftAxis[a] * h;
     auto& c = g.grid.coords[static_cast<std::size_t>(a)];
     c.resize(static_cast<std::size_t>(n) + 1);
     for (int i = 0; i <= n; ++i) c[static_cast<std::size_t>(i)] = static_cast<float>(lo + i * h);

@@ -21,9 +21,11 @@ struct MeshGrid {
   double coord(int axis, int i) const { return grid.coords[static_cast<std::size_t>(axis)][static_cast<std::size_t>(i)]; }
 };
 
-// Cells of edge h centered on `region`; `margin` extra cells on every side. Throws InputError if
-// an axis would need more than kMaxMeshResolution cells, or if f32 cannot resolve the corners.
-MeshGrid make_grid(const Box3& region, double h, int margin);
+// Cells of edge h centered on `region`; `margin` extra cells on every side; corners moved by
+// `shift` cells along every axis (times 1, 0.71 and 0.43: no plane or diagonal keeps its place).
+// Throws InputError if an axis would need more than kMaxMeshResolution cells, or if f32 cannot
+// resolve the corners.
+MeshGrid make_grid(const Box3& region, double h, int margin, double shift = 0);
 
 // max(f, d) with d the f32 distance-like function of `box` (negative inside, 0 on its faces):
 // identical to f where f's surface is inside the box, >= 0 outside it. With a box inside the

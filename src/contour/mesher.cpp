@@ -120,99 +120,123 @@ TriMesh Mesher::mesh(const Tape& tape) {
   for (int a = 0; a < 3; ++a) longest = std::max(longest, region.hi[a] - region.lo[a]);
   const double h = o.cell_size > 0 ? o.cell_size : longest / o.resolution;
   if (!(h > 0) || !std::isfinite(h)) throw InputError("", 0, "the region to mesh has no extent");
-  const MeshGrid grid = make_grid(region, h, margin);
-  st.bounds = grid.box;
-  st.cells = grid.n;
-  st.cell_size = h;
-  // Closed at the given bounds (inside the grid, which covers them with whole cells), or at the
-  // grid's box when the bounds were found (the shape is inside with a cell to spare).
-  Box3 cut = margin ? grid.box : region;
-  for (int a = 0; a < 3; ++a) {
-    // As f32, not beyond the grid (so that the grid's boundary corners stay outside).
-    cut.lo[a] = std::max(round_f32(cut.lo[a]), grid.box.lo[a]);
-    cut.hi[a] = std::min(round_f32(cut.hi[a]), grid.box.hi[a]);
-  }
-  const Tape closed = close_at_box(tape, cut);
-  // The cut max(f, box) has the box distance's Lipschitz constant 1 where it applies: a smaller
-  // L for f alone would settle boxes wrongly there (a region wholly inside came out empty).
-  const double lipschitz = o.lipschitz > 0 ? std::max(o.lipschitz, 1.0) : o.lipschitz;
-
-  // Subdivision and leaves.
-  auto t1 = Clock::now();
-  const std::vector<int> tiles = o.tiles.empty() ? default_tiles(*std::max_element(grid.n.begin(), grid.n.end()), lipschitz > 0 ? 2 : 4) : o.tiles;
-  if (!impl_->sub || impl_->sub->options().tiles != tiles || impl_->sub->options().lipschitz != lipschitz) {
-    SubdivisionOptions so;
-    so.tiles = tiles;
-    so.threads = o.threads;
-    so.lipschitz = lipschitz;
-    impl_->sub.reset();  // one pool at a time
-    impl_->sub = std::make_unique<Subdivider>(so);
-  }
-  Subdivider& sub = *impl_->sub;
-  const int leaf_size = tiles.back();
-  const int workers = sub.workers();
-  std::vector<std::unique_ptr<LeafMesher>> leafers;
-  std::vector<std::vector<std::unique_ptr<LeafRecord>>> records(static_cast<std::size_t>(workers));
-  std::vector<std::unique_ptr<LeafRecord>> spare(static_cast<std::size_t>(workers));
-  for (int i = 0; i < workers; ++i) {
-    leafers.push_back(std::make_unique<LeafMesher>(grid, cut, o));
-    spare[static_cast<std::size_t>(i)] = std::make_unique<LeafRecord>();
-  }
-  const double total = static_cast<double>(grid.n[0]) * grid.n[1] * grid.n[2];
-  std::atomic<std::uint64_t> done{0};
-  std::atomic<std::int64_t> last_report{0};
-  const auto start = Clock::now();
-
-  struct Visitor {
-    std::function<void(const IndexBox&)> count;
-    std::function<void(int, const Tape&, const IndexBox&)> on_leaf;
-    bool settled(int, const IndexBox& b, Interval v) {
-      if (v.is_unknown()) return false;
-      if (v.hi < 0 || v.lo >= 0) return count(b), true;  // full or empty
-      return false;
+  const bool found = margin > 0;  // the region was found (or known), not given: closed at the grid's box
+  std::uint64_t zeros = 0;
+  const auto run = [&](double shift) -> TriMesh {
+    // A shifted grid needs a cell more on every side to cover the region.
+    const MeshGrid grid = make_grid(region, h, shift != 0 ? margin + 1 : margin, shift);
+    st.surface_cells = 0;
+    st.capped = false;
+    st.unresolved = 0;
+    st.bounds = grid.box;
+    st.cells = grid.n;
+    st.cell_size = h;
+    // Closed at the given bounds (inside the grid, which covers them with whole cells), or at the
+    // grid's box when the bounds were found (the shape is inside with a cell to spare).
+    Box3 cut = found ? grid.box : region;
+    for (int a = 0; a < 3; ++a) {
+      // As f32, not beyond the grid (so that the grid's boundary corners stay outside).
+      cut.lo[a] = std::max(round_f32(cut.lo[a]), grid.box.lo[a]);
+      cut.hi[a] = std::min(round_f32(cut.hi[a]), grid.box.hi[a]);
     }
-    void leaf(int wi, const Tape& t, const IndexBox& b) { on_leaf(wi, t, b); }
-  };
-  Visitor visitor;
-  visitor.count = [&](const IndexBox& b) {
-    if (o.progress) done.fetch_add(static_cast<std::uint64_t>(b.count()), std::memory_order_relaxed);
-  };
-  visitor.on_leaf = [&](int wi, const Tape& t, const IndexBox& b) {
+    const Tape closed = close_at_box(tape, cut);
+    // The cut max(f, box) has the box distance's Lipschitz constant 1 where it applies: a smaller
+    // L for f alone would settle boxes wrongly there (a region wholly inside came out empty).
+    const double lipschitz = o.lipschitz > 0 ? std::max(o.lipschitz, 1.0) : o.lipschitz;
+
+    // Subdivision and leaves.
+    auto t1 = Clock::now();
+    const std::vector<int> tiles = o.tiles.empty() ? default_tiles(*std::max_element(grid.n.begin(), grid.n.end()), lipschitz > 0 ? 2 : 4) : o.tiles;
+    if (!impl_->sub || impl_->sub->options().tiles != tiles || impl_->sub->options().lipschitz != lipschitz) {
+      SubdivisionOptions so;
+      so.tiles = tiles;
+      so.threads = o.threads;
+      so.lipschitz = lipschitz;
+      impl_->sub.reset();  // one pool at a time
+      impl_->sub = std::make_unique<Subdivider>(so);
+    }
+    Subdivider& sub = *impl_->sub;
+    const int leaf_size = tiles.back();
+    const int workers = sub.workers();
+    std::vector<std::unique_ptr<LeafMesher>> leafers;
+    std::vector<std::vector<std::unique_ptr<LeafRecord>>> records(static_cast<std::size_t>(workers));
+    std::vector<std::unique_ptr<LeafRecord>> spare(static_cast<std::size_t>(workers));
+    for (int i = 0; i < workers; ++i) {
+      leafers.push_back(std::make_unique<LeafMesher>(grid, cut, o));
+      spare[static_cast<std::size_t>(i)] = std::make_unique<LeafRecord>();
+    }
+    const double total = static_cast<double>(grid.n[0]) * grid.n[1] * grid.n[2];
+    std::atomic<std::uint64_t> done{0};
+    std::atomic<std::int64_t> last_report{0};
+    const auto start = Clock::now();
+
+    struct Visitor {
+      std::function<void(const IndexBox&)> count;
+      std::function<void(int, const Tape&, const IndexBox&)> on_leaf;
+      bool settled(int, const IndexBox& b, Interval v) {
+        if (v.is_unknown()) return false;
+        if (v.hi < 0 || v.lo >= 0) return count(b), true;  // full or empty
+        return false;
+      }
+      void leaf(int wi, const Tape& t, const IndexBox& b) { on_leaf(wi, t, b); }
+    };
+    Visitor visitor;
+    visitor.count = [&](const IndexBox& b) {
+      if (o.progress) done.fetch_add(static_cast<std::uint64_t>(b.count()), std::memory_order_relaxed);
+    };
+    visitor.on_leaf = [&](int wi, const Tape& t, const IndexBox& b) {
+      if (cancelled()) throw MeshCancelled();
+      auto& rec = spare[static_cast<std::size_t>(wi)];
+      if (leafers[static_cast<std::size_t>(wi)]->process(t, b, *rec)) {
+        rec->key = leaf_key(b.lo, leaf_size);
+        records[static_cast<std::size_t>(wi)].push_back(std::move(rec));
+        rec = std::make_unique<LeafRecord>();
+      }
+      if (o.progress) {
+        const std::uint64_t d = done.fetch_add(static_cast<std::uint64_t>(b.count()), std::memory_order_relaxed) +
+                                static_cast<std::uint64_t>(b.count());
+        const std::int64_t now = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start).count();
+        std::int64_t last = last_report.load(std::memory_order_relaxed);
+        if (now - last >= 200 && last_report.compare_exchange_strong(last, now)) report("cells", static_cast<double>(d) / total);
+      }
+    };
+    sub.run(closed, grid.grid, visitor);
     if (cancelled()) throw MeshCancelled();
-    auto& rec = spare[static_cast<std::size_t>(wi)];
-    if (leafers[static_cast<std::size_t>(wi)]->process(t, b, *rec)) {
-      rec->key = leaf_key(b.lo, leaf_size);
-      records[static_cast<std::size_t>(wi)].push_back(std::move(rec));
-      rec = std::make_unique<LeafRecord>();
-    }
-    if (o.progress) {
-      const std::uint64_t d = done.fetch_add(static_cast<std::uint64_t>(b.count()), std::memory_order_relaxed) +
-                              static_cast<std::uint64_t>(b.count());
-      const std::int64_t now = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start).count();
-      std::int64_t last = last_report.load(std::memory_order_relaxed);
-      if (now - last >= 200 && last_report.compare_exchange_strong(last, now)) report("cells", static_cast<double>(d) / total);
-    }
-  };
-  sub.run(closed, grid.grid, visitor);
-  if (cancelled()) throw MeshCancelled();
-  report("cells", 1);
-  st.seconds_cells = seconds_since(t1);
+    report("cells", 1);
+    st.seconds_cells = seconds_since(t1);
 
-  // Assembly in leaf order.
-  auto t2 = Clock::now();
-  std::vector<LeafRecord*> leaves;
-  for (auto& per_worker : records)
-    for (auto& r : per_worker) leaves.push_back(r.get());
-  std::sort(leaves.begin(), leaves.end(), [](const LeafRecord* a, const LeafRecord* b) { return a->key < b->key; });
-  TriMesh mesh = assemble(leaves, grid, leaf_size, sub.pool(), &st.unresolved);
-  st.seconds_assembly = seconds_since(t2);
-  st.leaves = leaves.size();
-  for (const LeafRecord* r : leaves) {
-    st.surface_cells += r->cells.size();
-    st.capped |= r->touches_cap;
+    // Assembly in leaf order.
+    auto t2 = Clock::now();
+    std::vector<LeafRecord*> leaves;
+    for (auto& per_worker : records)
+      for (auto& r : per_worker) leaves.push_back(r.get());
+    std::sort(leaves.begin(), leaves.end(), [](const LeafRecord* a, const LeafRecord* b) { return a->key < b->key; });
+    TriMesh mesh = assemble(leaves, grid, leaf_size, sub.pool(), &st.unresolved);
+    st.seconds_assembly = seconds_since(t2);
+    st.leaves = leaves.size();
+    for (const LeafRecord* r : leaves) {
+      st.surface_cells += r->cells.size();
+      st.capped |= r->touches_cap;
+    }
+    st.vertices = mesh.vertices.size();
+    st.triangles = mesh.triangles.size();
+    zeros = 0;
+    for (const auto& l : leafers) zeros += l->zero_corners();
+    return mesh;
+  };
+  TriMesh mesh = run(0);
+  if (zeros > 0) {
+    // Corners exactly on the surface: faces on grid planes, where "f = 0 is outside" splits
+    // touching solids and drops features one cell thick. On a grid moved by a sliver of a cell
+    // no corner is on those planes, and dual contouring places the sharp features from the
+    // crossings around them.
+    st.zero_corners = zeros;
+    st.shifted = true;
+    const double seconds_cells = st.seconds_cells, seconds_assembly = st.seconds_assembly;
+    mesh = run(1.0 / 64);
+    st.seconds_cells += seconds_cells;
+    st.seconds_assembly += seconds_assembly;
   }
-  st.vertices = mesh.vertices.size();
-  st.triangles = mesh.triangles.size();
   return mesh;
 }
 

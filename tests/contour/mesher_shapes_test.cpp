@@ -269,6 +269,44 @@ TEST(MeshShapes, SurfaceThroughGridCorners) {
   }
 }
 
+// Faces on grid planes have no right side when the grid's corners sit on them (f = 0 counted
+// outside): two boxes sharing a face came out as two solids with walls between them, and a
+// plate exactly one cell thick vanished. The mesher sees pairs of exact zeros and meshes again
+// on a grid moved by 1/64 of a cell; a smooth surface through a few corners is left alone.
+TEST(MeshShapes, FacesOnGridPlanesMeshOnAShiftedGrid) {
+  Xyz s;
+  // Resolution 16 over [-1, 1]: corners at multiples of 0.125.
+  const Expr shared = min(box(s, {-0.5, -0.5, -0.5}, {0, 0.5, 0.5}), box(s, {0, -0.5, -0.5}, {0.5, 0.5, 0.5}));
+  const Expr plate = box(s, {-0.5, -0.5, 0}, {0.5, 0.5, 0.125});
+  const Expr slot = max(box(s, {-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}), -box(s, {-0.25, -0.25, 0.25}, {0.25, 0.25, 0.75}));
+  for (auto method : {MeshMethod::DualContouring, MeshMethod::Snap}) {
+    MeshStats st;
+    TriMesh m = mesh_solid(shared, options(16, Box3{{-1, -1, -1}, {1, 1, 1}}, method), "boxes sharing a face", &st);
+    EXPECT_TRUE(st.shifted);
+    ValidationReport r = validate_mesh(m);
+    EXPECT_EQ(r.components, 1u);
+    // Snapping rounds sharp edges off by part of a cell: volumes are checked on dual contouring.
+    const bool dc = method == MeshMethod::DualContouring;
+    if (dc) EXPECT_NEAR(r.volume, 1.0, 1e-3);
+    m = mesh_solid(plate, options(16, Box3{{-1, -1, -1}, {1, 1, 1}}, method), "plate one cell thick", &st);
+    EXPECT_TRUE(st.shifted);
+    EXPECT_EQ(validate_mesh(m).components, 1u);
+    if (dc) EXPECT_NEAR(validate_mesh(m).volume, 0.125, 1e-3);
+    m = mesh_solid(slot, options(16, Box3{{-1, -1, -1}, {1, 1, 1}}, method), "flush pocket", &st);
+    if (dc) EXPECT_NEAR(validate_mesh(m).volume, 1 - 0.0625, 1e-3);
+    if (dc) {
+      // Still exact: every vertex on the faces.
+      for (const Vec3& v : m.vertices)
+        EXPECT_LT(std::fabs(std::max(box_distance(v, {-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5}),
+                                     -box_distance(v, {-0.25, -0.25, 0.25}, {0.25, 0.25, 0.75}))),
+                  2e-5);
+    }
+  }
+  MeshStats st;
+  mesh_solid(sqrt(square(s.x) + square(s.y) + square(s.z)) - 0.5f, options(16), "sphere through corners", &st);
+  EXPECT_FALSE(st.shifted) << st.zero_corners;
+}
+
 // A shape cut by the bounds is closed with flat caps on them.
 TEST(MeshShapes, CappedAtTheBounds) {
   Xyz s;

@@ -91,6 +91,12 @@ struct MeshStats {
   // Vertices whose triangles still fold or cross after every repair: 0 unless the field is
   // badly under-sampled (features much thinner than a cell, in many places at once).
   std::size_t unresolved = 0;
+  // Grid corners (inside the grid) where the field was exactly 0 on the first pass, next to
+  // another along a cell edge. Such ties (faces or edges on grid lines: touching boxes, fins one
+  // cell thick, axis-aligned converted meshes) have no right side, so the grid was then shifted
+  // by a small fraction of a cell and the mesh made again; `shifted` says so.
+  std::size_t zero_corners = 0;
+  bool shifted = false;
   double seconds_bounds = 0, seconds_cells = 0, seconds_assembly = 0;
 };
 
