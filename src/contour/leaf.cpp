@@ -243,7 +243,9 @@ void LeafMesher::find_roots(const Tape& tape) {
       const float lo = std::min(t_in_[i], t_out_[i]), hi = std::max(t_in_[i], t_out_[i]);
       const float fi = f_in_[i], fo = f_out_[i];
       float t = 0.5f * (lo + hi);
-      if (std::isfinite(fi) && std::isfinite(fo)) {
+      // Secant (Illinois) steps, but bisection once one end has stayed put three times: at a bend
+      // (a steep field under the flat cut) halving the far value converges too slowly.
+      if (std::isfinite(fi) && std::isfinite(fo) && std::abs(last_side_[i]) < 3) {
         const float r = t_in_[i] + (t_out_[i] - t_in_[i]) * (fi / (fi - fo));
         if (r > lo && r < hi) t = r;
       }
@@ -264,22 +266,26 @@ void LeafMesher::find_roots(const Tape& tape) {
     for (std::size_t k = 0; k < m; ++k) {
       const std::uint32_t i = active_[k];
       const float t = proposal[k], v = f[k];
+      // The bracket's end on the new point's side, before it moves there.
+      const float t_same = v < 0 ? t_in_[i] : t_out_[i], f_same = v < 0 ? f_in_[i] : f_out_[i];
       if (v < 0) {
         t_in_[i] = t;
         f_in_[i] = v;
-        if (last_side_[i] == -1) f_out_[i] *= 0.5f;  // Illinois: the other end was kept twice
-        last_side_[i] = -1;
+        if (last_side_[i] < 0) f_out_[i] *= 0.5f;  // Illinois: the other end was kept twice
+        last_side_[i] = static_cast<std::int8_t>(last_side_[i] < 0 ? std::max(last_side_[i] - 1, -100) : -1);
       } else {
         t_out_[i] = t;
         f_out_[i] = v;
-        if (last_side_[i] == 1) f_in_[i] *= 0.5f;
-        last_side_[i] = 1;
+        if (last_side_[i] > 0) f_in_[i] *= 0.5f;
+        last_side_[i] = static_cast<std::int8_t>(last_side_[i] > 0 ? std::min(last_side_[i] + 1, 100) : 1);
       }
       const float width = std::fabs(t_out_[i] - t_in_[i]);
       bool done = v == 0 || width <= tol;
-      if (!done && std::isfinite(v) && std::isfinite(f_in_[i]) && std::isfinite(f_out_[i])) {
-        // Distance to the root estimated from the bracket's slope.
-        const float slope = std::fabs(f_out_[i] - f_in_[i]) / width;
+      if (!done && std::isfinite(v) && std::isfinite(f_in_[i]) && std::isfinite(f_out_[i]) && std::isfinite(f_same)) {
+        // Distance to the root estimated from the smaller of the bracket's slope and the slope on
+        // the new point's side: where the field bends (a steep field under the flat cut at the
+        // bounds, a quartic), the bracket's slope alone accepted points 0.4 cells from the root.
+        const float slope = std::min(std::fabs(f_out_[i] - f_in_[i]) / width, std::fabs(v - f_same) / std::fabs(t - t_same));
         done = std::fabs(v) <= tol * slope;
       }
       if (done) {

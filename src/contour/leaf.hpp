@@ -124,7 +124,7 @@ class LeafMesher {
   // Root finding state per crossing.
   std::vector<float> t_in_, f_in_, t_out_, f_out_;
   std::vector<std::uint32_t> retry_;  // crossings whose normal is taken again (find_normals)
-  std::vector<std::int8_t> last_side_;
+  std::vector<std::int8_t> last_side_;  // the side the last points fell on, counted (-k: k inside in a row)
   std::vector<float> proposal_, f_eval_;
   std::vector<float> cap_x_, cap_y_, cap_z_, cap_v_;
   std::vector<std::uint32_t> active_;

@@ -307,6 +307,25 @@ TEST(MeshShapes, FacesOnGridPlanesMeshOnAShiftedGrid) {
   EXPECT_FALSE(st.shifted) << st.zero_corners;
 }
 
+// Roots of steep or bent fields: under the cut at the bounds (max(f, box)), a steep field meets
+// the flat box distance inside, and the bracket's secant slope accepted a point next to the inside
+// end (the plane 1e5 (x - 0.3013) came out at x = 0.25, 0.41 cells off); a quartic sphere (slope
+// growing along the edge) was 0.32 cells off on average. Where the field is 0 is what counts,
+// whatever its scale.
+TEST(MeshShapes, SteepAndBentFieldsKeepTheirPlace) {
+  Xyz s;
+  const TriMesh plane = mesh_solid((s.x - 0.3013f) * 1e5f, options(16), "steep plane");
+  double worst = 0;
+  for (const Vec3& v : plane.vertices)  // on the plane, or on a cap at the bounds
+    worst = std::max(worst, std::min({std::fabs(v.x - 0.3013), std::fabs(v.x + 1), 1 - std::fabs(v.y), 1 - std::fabs(v.z)}));
+  EXPECT_LT(worst, 1e-2 * 0.125);  // a hundredth of a cell (0.41 cells before)
+  const Expr r2 = square(s.x) + square(s.y) + square(s.z);
+  const TriMesh quartic = mesh_solid(r2 * r2 - 0.0625f, options(32), "quartic sphere of radius 0.5");
+  double sum = 0;
+  for (const Vec3& v : quartic.vertices) sum += std::fabs(length(v) - 0.5);
+  EXPECT_LT(sum / static_cast<double>(quartic.vertices.size()), 0.05 * (2.0 / 32));
+}
+
 // A shape cut by the bounds is closed with flat caps on them.
 TEST(MeshShapes, CappedAtTheBounds) {
   Xyz s;
