@@ -120,7 +120,7 @@ void register_export(CLI::App& app) {
       }
     }
     if (a->output != "-") check_output(a->output, {a->file});
-    const Model m = load_input(a->file);
+    const Model m = load_input(a->file, a->quiet);
     const std::string source = std::filesystem::path(a->file).filename().string();
     auto produce = [&](std::ostream& out) { write(out, m, source); };
     if (a->output == "-") {

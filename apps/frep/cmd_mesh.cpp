@@ -107,7 +107,7 @@ void register_mesh(CLI::App& app) {
     o.threads = a->threads;
     check_output_path(a->output, a->input);
 
-    const Model m = load_input(a->input);
+    const Model m = load_input(a->input, a->quiet);
     const Tape tape = Tape::compile(*m.graph, m.root);
     o.lipschitz = lipschitz_of(m, a->lipschitz);
     // A box known to hold the inside (a mesh's, converted here or by frep convert) instead of the

@@ -147,7 +147,7 @@ void register_render(CLI::App& app) {
       if (a->tiles[i] > a->tiles[i - 1]) throw CLI::ValidationError("--tiles", "tile sizes must not increase");
     check_image_path(a->output, grayscale ? 1 : 3);
     check_output(a->output, {a->file});
-    const Model m = load_input(a->file);
+    const Model m = load_input(a->file, a->quiet);
     const Tape tape = Tape::compile(*m.graph, m.root);
     // Without --bounds, 3D views and slices show the box the input says holds its inside (a mesh,
     // converted here or by frep convert), grown by 5% of its longest side so that nothing is cut

@@ -11,12 +11,12 @@
 
 namespace frep::cli {
 
-Model load_input(const std::string& path, ConvertStats* stats) {
+Model load_input(const std::string& path, bool quiet, ConvertStats* stats) {
   ConvertStats s;
   Model m = load_field(path, {}, &s);
   if (stats) *stats = s;
   print_read_warnings(path, s.read_warnings);
-  if (s.triangles > 0)
+  if (s.triangles > 0 && !quiet)
     fmt::print(stderr, "frep: converted {} ({} triangles) to an expression of {} nodes in {:.2f} s\n", path,
                s.triangles, s.nodes, s.seconds);
   return m;

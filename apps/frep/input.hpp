@@ -12,8 +12,10 @@
 
 namespace frep::cli {
 
-// `stats`, when given, receives the conversion's figures (triangles = 0 for an expression file).
-Model load_input(const std::string& path, ConvertStats* stats = nullptr);
+// An expression file, or a mesh converted on the fly (saying so on stderr unless `quiet`; reading
+// warnings are printed either way). `stats`, when given, receives the conversion's figures
+// (triangles = 0 for an expression file).
+Model load_input(const std::string& path, bool quiet = false, ConvertStats* stats = nullptr);
 
 // --lipschitz L: lets a command that subdivides space (render, mesh, offset, shell) assume
 // |f(p) - f(q)| <= L |p - q| (see FieldInfo::lipschitz). `value` stays negative unless given.

@@ -101,7 +101,7 @@ void check_name(const std::string& name) {
       name.find("__") != std::string::npos || export_detail::is_reserved_name(name))
     throw InputError("", 0,
                      "GLSL function name '" + name +
-                         "' is not a GLSL identifier, or is reserved (p, gl_*, __, a keyword or type, or frep_*)");
+                         "' is not a GLSL identifier, or is reserved (p, gl_*, __, a keyword or type, a built-in function, or frep_*)");
 }
 
 // The helpers and the function; returns the number of reachable nodes.

@@ -22,7 +22,7 @@ bool ends_with(const std::string& s, std::string_view suffix) {
 // comments start with `//`, and a statement such as `let square = ...` has `=` or parentheses.
 bool looks_like_vm(std::string_view text) {
   auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; };
-  std::size_t pos = 0;
+  std::size_t pos = text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;  // UTF-8 byte order mark
   while (pos < text.size()) {
     std::size_t eol = text.find('\n', pos);
     if (eol == std::string_view::npos) eol = text.size();

@@ -9,6 +9,7 @@
 namespace frep {
 
 Model parse_rhai(std::string_view text, const std::string& name, const RhaiOptions& options) {
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 byte order mark (editors on Windows)
   Model m;
   rhai::Interp interp(text, name, options, *m.graph);
   m.root = interp.run();

@@ -90,6 +90,7 @@ class IdTable {
 }  // namespace
 
 Model parse_vm(std::string_view text, const std::string& name) {
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 byte order mark (editors on Windows)
   std::vector<Line> lines;
   const std::size_t expected = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
   lines.reserve(expected);

@@ -349,6 +349,18 @@ TEST_F(Cli, FieldsThatAreNotDistancesKeepTheirShape) {
   EXPECT_NE(r.out.find("box: (-5.99"), std::string::npos) << r.out;
 }
 
+// --quiet: nothing but errors, including the line saying a mesh input was converted.
+TEST_F(Cli, QuietMeansQuiet) {
+  const std::string obj = test::shell_quote(FREP_SOURCE_DIR "/examples/bracket.obj");
+  for (const std::string& cmd : {"mesh " + obj + " -r 8 -q -o " + test::shell_quote(path("q.stl")),
+                                 "offset " + obj + " 0.5 -r 8 -q -o " + test::shell_quote(path("q2.stl")),
+                                 "render " + obj + " --3d -s 32 -q -o " + test::shell_quote(path("q.png"))}) {
+    const RunResult r = run(cmd);
+    EXPECT_EQ(r.code, 0) << cmd << "\n" << r.err;
+    EXPECT_EQ(r.out + r.err, "") << cmd;
+  }
+}
+
 // An empty picture says which region it showed: usually the shape is elsewhere.
 TEST_F(Cli, EmptyPicturesSayWhy) {
   write("far.vm", "_0 var-x\n_1 const 3\n_2 sub _0 _1\n_3 square _2\n_4 var-y\n_5 square _4\n_6 var-z\n"

@@ -2,6 +2,7 @@
 // written as div by 1; every kind of error names the file and the right line.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -13,6 +14,8 @@
 #include "frep/expr/expr.hpp"
 #include "frep/io/load.hpp"
 #include "frep/io/rhai.hpp"
+#include "frep/io/vm.hpp"
+#include "frep/eval/evaluators.hpp"
 #include "frep/io/save.hpp"
 #include "frep/io/vm.hpp"
 #include "test_util.hpp"
@@ -386,6 +389,34 @@ TEST(VmParseErrors, ErrorInAFileOnDiskHasItsPathAndLine) {
     EXPECT_NE(std::string(e.what()).find(p.string() + ":5"), std::string::npos) << e.what();
   }
   fs::remove(p);
+}
+
+}  // namespace
+}  // namespace frep
+
+namespace frep {
+namespace {
+
+// A UTF-8 byte order mark (some Windows editors write one) is skipped by both text formats,
+// with or without an extension that says which format it is.
+TEST(TextFormats, ByteOrderMarkIsSkipped) {
+  const std::string bom = "\xEF\xBB\xBF";
+  const Model vm = parse_vm(bom + "# frep: lipschitz 1\n_0 var-x\n_1 const 2\n_2 sub _0 _1\n", "bom.vm");
+  EXPECT_EQ(vm.info.lipschitz, 1.0);
+  const Model rhai = parse_rhai(bom + "// frep: lipschitz 1\nx - 2\n", "bom.rhai");
+  EXPECT_EQ(rhai.info.lipschitz, 1.0);
+  for (const Model* m : {&vm, &rhai}) {
+    const Tape t = Tape::compile(*m->graph, m->root);
+    PointEvaluator pe;
+    EXPECT_EQ(pe.eval(t, 5, 0, 0), 3.0f);
+  }
+  const std::string dir = ::testing::TempDir();
+  const std::string path = dir + "/frep_bom_expression";
+  { std::ofstream(path, std::ios::binary) << bom << "_0 var-x\n_1 const 2\n_2 sub _0 _1\n"; }
+  const Model loaded = load_expression(path);
+  PointEvaluator pe;
+  EXPECT_EQ(pe.eval(Tape::compile(*loaded.graph, loaded.root), 5, 0, 0), 3.0f);
+  std::remove(path.c_str());
 }
 
 }  // namespace
