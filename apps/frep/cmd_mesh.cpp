@@ -150,8 +150,9 @@ void register_mesh(CLI::App& app) {
       if (st.cells[0] == 0)  // the bounds search found nothing
         throw InputError(a->input, 0, "the expression is not negative anywhere: nothing to mesh");
       throw InputError(a->input, 0,
-                       "no sample of the grid is inside the shape: nothing to mesh (the shape is empty in the "
-                       "bounds, or thinner than a cell: try a finer --resolution)");
+                       std::string("no sample of the grid is inside the shape: nothing to mesh (the shape is empty in "
+                                   "the bounds, or thinner than a cell: try ") +
+                           (a->cell > 0 ? "a smaller --cell)" : "a finer --resolution)"));
     }
     write_mesh(a->output, mesh);
     if (!a->quiet) {

@@ -20,7 +20,7 @@ MeshGrid make_grid(const Box3& region, double h, int margin, double shift) {
     if (!(cells <= kMaxMeshResolution)) {
       char msg[300];
       std::snprintf(msg, sizeof msg,
-                    "cells of %g need %.0f cells along %c, more than the limit of %d: use a larger cell or a "
+                    "cells of %g need %.3g cells along %c, more than the limit of %d: use a larger cell or a "
                     "smaller region",
                     h, cells, "xyz"[a], kMaxMeshResolution);
       throw InputError("", 0, msg);
@@ -32,6 +32,13 @@ MeshGrid make_grid(const Box3& region, double h, int margin, double shift) {
     c.resize(static_cast<std::size_t>(n) + 1);
     for (int i = 0; i <= n; ++i) c[static_cast<std::size_t>(i)] = static_cast<float>(lo + i * h);
   }
+  for (int a = 0; a < 3; ++a)
+    for (float c : {g.grid.coords[static_cast<std::size_t>(a)].front(), g.grid.coords[static_cast<std::size_t>(a)].back()})
+      if (!std::isfinite(c)) {
+        char msg[200];
+        std::snprintf(msg, sizeof msg, "cells of %g reach beyond 32-bit floats along %c: use a smaller cell", h, "xyz"[a]);
+        throw InputError("", 0, msg);
+      }
   g.grid.check("region to mesh");
   for (int a = 0; a < 3; ++a) {
     const auto& c = g.grid.coords[static_cast<std::size_t>(a)];

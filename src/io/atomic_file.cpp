@@ -67,7 +67,12 @@ void write_file_atomically(const std::string& path, const std::function<void(std
     return;
   }
   std::random_device rd;
-  const std::string tmp = target.string() + ".tmp" + std::to_string(::getpid()) + "." + std::to_string(rd() % 1000000);
+  // Beside the target (a rename within one file system), named after it; a long name is cut so
+  // that the temporary one still fits a file name (255 bytes on Linux file systems).
+  const std::string suffix = ".tmp" + std::to_string(::getpid()) + "." + std::to_string(rd() % 1000000);
+  std::string base = target.filename().string();
+  if (base.size() + suffix.size() > 255) base.resize(255 - suffix.size());
+  const std::string tmp = (target.parent_path() / (base + suffix)).string();
   // Registered for the signal handler while it exists (unless another write already is).
   struct Tracked {
     bool on;

@@ -174,8 +174,12 @@ TEST(AtomicWrite, FollowsLinksWritesDevicesInPlaceAndKeepsModes) {
   EXPECT_EQ(read_file((dir / "made.txt").string()), "made");
   EXPECT_NO_THROW(write_file_atomically("/dev/null", std::string_view("nothing")));
   EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  // A name of 255 bytes, the most a file name may have: the temporary name is cut to fit.
+  const fs::path longest = dir / std::string(255, 'n');
+  EXPECT_NO_THROW(write_file_atomically(longest.string(), std::string_view("long")));
+  EXPECT_EQ(read_file(longest.string()), "long");
   const auto entries = std::distance(fs::directory_iterator(dir), fs::directory_iterator());
-  EXPECT_EQ(entries, 4) << "temporary files left behind";
+  EXPECT_EQ(entries, 5) << "temporary files left behind";
   fs::remove_all(dir);
 }
 
