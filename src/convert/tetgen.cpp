@@ -35,8 +35,10 @@ struct ScratchDir {
     std::string tmpl = (fs::temp_directory_path() / "frep-tetgen-XXXXXX").string();
     if (!::mkdtemp(tmpl.data())) throw InputError("", 0, std::string("cannot create a scratch directory: ") + std::strerror(errno));
     path = tmpl;
+    set_signal_cleanup(path.string(), 0);  // Ctrl-C during the conversion removes it too
   }
   ~ScratchDir() {
+    set_signal_cleanup("", 0);
     std::error_code ec;
     fs::remove_all(path, ec);
   }
@@ -60,8 +62,10 @@ void run_tetgen(const std::string& program, const std::vector<std::string>& args
   const pid_t pid = ::fork();
   if (pid < 0) throw InputError(mesh_name, 0, std::string("cannot start TetGen: ") + std::strerror(errno));
   if (pid == 0) {
-    // Child: own directory and log; exit 127 if the program cannot be run.
+    // Child: own process group (a timeout or a signal then kills whatever it started too), own
+    // directory and log; exit 127 if the program cannot be run.
     // Only async-signal-safe calls here: the parent may have other threads.
+    ::setpgid(0, 0);
     if (::chdir(dir.c_str()) != 0) ::_exit(126);
     const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd >= 0) {
@@ -72,6 +76,12 @@ void run_tetgen(const std::string& program, const std::vector<std::string>& args
     ::execvp(program.c_str(), argv.data());
     ::_exit(127);
   }
+  ::setpgid(pid, pid);  // also here: whichever runs first, the group exists before it is used
+  set_signal_cleanup(dir.string(), pid);
+  struct Forget {  // the group is gone once waited for
+    fs::path dir;
+    ~Forget() { set_signal_cleanup(dir.string(), 0); }
+  } forget{dir};
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout);
   int status = 0;
   auto sleep = std::chrono::milliseconds(2);
@@ -80,7 +90,7 @@ void run_tetgen(const std::string& program, const std::vector<std::string>& args
     if (r == pid) break;
     if (r < 0 && errno != EINTR) throw InputError(mesh_name, 0, std::string("lost TetGen: ") + std::strerror(errno));
     if (std::chrono::steady_clock::now() > deadline) {
-      ::kill(pid, SIGKILL);
+      ::kill(-pid, SIGKILL);  // TetGen and anything it started (a wrapper script's children)
       ::waitpid(pid, &status, 0);
       char limit[32];
       std::snprintf(limit, sizeof limit, "%g", timeout);

@@ -1,6 +1,7 @@
 #include "frep/io/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -24,8 +25,35 @@ namespace {
 char g_temporary[4096];
 std::atomic<bool> g_writing{false};
 
+// A child's scratch directory and process group (set_signal_cleanup).
+char g_scratch[4096];
+std::atomic<bool> g_has_scratch{false};
+std::atomic<int> g_child_group{0};
+
+// Removes the files of a directory, then the directory, with system calls only (async-signal-safe:
+// no allocation, no locks).
+void remove_flat_directory(const char* dir) {
+  const int fd = ::open(dir, O_RDONLY | O_DIRECTORY);
+  if (fd >= 0) {
+    alignas(8) char buf[4096];
+    for (long n; (n = ::syscall(SYS_getdents64, fd, buf, sizeof buf)) > 0;)
+      for (long off = 0; off < n;) {
+        // struct linux_dirent64: d_ino (8), d_off (8), d_reclen (2), d_type (1), d_name.
+        unsigned short reclen;
+        std::memcpy(&reclen, buf + off + 16, sizeof reclen);
+        const char* name = buf + off + 19;
+        if (!(name[0] == '.' && (name[1] == 0 || (name[1] == '.' && name[2] == 0)))) ::unlinkat(fd, name, 0);
+        off += reclen;
+      }
+    ::close(fd);
+  }
+  ::rmdir(dir);
+}
+
 void remove_and_die(int sig) {
   if (g_writing.load()) ::unlink(g_temporary);
+  if (const int group = g_child_group.load(); group > 0) ::kill(-group, SIGKILL);
+  if (g_has_scratch.load()) remove_flat_directory(g_scratch);
   std::signal(sig, SIG_DFL);
   std::raise(sig);
 }
@@ -48,6 +76,15 @@ std::filesystem::path resolve_links(const std::string& path) {
 
 void remove_temporary_files_on_signals() {
   for (int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, remove_and_die);
+}
+
+void set_signal_cleanup(const std::string& scratch_dir, int child_group) {
+  g_has_scratch = false;
+  if (!scratch_dir.empty() && scratch_dir.size() < sizeof g_scratch) {
+    std::memcpy(g_scratch, scratch_dir.c_str(), scratch_dir.size() + 1);
+    g_has_scratch = true;
+  }
+  g_child_group = child_group;
 }
 
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& produce) {

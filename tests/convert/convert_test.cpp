@@ -3,6 +3,9 @@
 // .frep read back to identical values), the tree's depth, size on flat CAD parts, TetGen's
 // failures, and the command line.
 #include <gtest/gtest.h>
+#include <csignal>
+#include <chrono>
+#include <thread>
 
 #include <cmath>
 #include <cstdio>
@@ -215,6 +218,58 @@ TEST(Convert, TetGenFailuresAreClearErrors) {
   o.tetgen = "sleep";  // never writes its output within the limit ("sleep -pYQ in.smesh" fails or sleeps)
   o.tetgen_timeout = 0.2;
   EXPECT_NE(message_of(box, o).find("TetGen"), std::string::npos) << message_of(box, o);
+}
+
+// A TetGen that outlives its time limit through a child of its own (a wrapper script): the
+// whole process group is killed, and the scratch directory removed; so is an interrupted one
+// (SIGTERM to frep), which used to leave both behind.
+TEST(Convert, TetGenTimeoutsAndSignalsLeaveNothingBehind) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(::testing::TempDir()) / ("frep_tetgen_group_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "tmp");
+  const fs::path script = dir / "slow_tetgen.sh", pidfile = dir / "child.pid";
+  {
+    std::ofstream(script) << "#!/bin/sh\nsleep 60 &\necho $! > '" << pidfile.string() << "'\nwait\n";
+  }
+  fs::permissions(script, fs::perms::owner_all);
+  const auto child_alive = [&] {
+    std::ifstream in(pidfile);
+    long pid = 0;
+    if (!(in >> pid) || pid <= 0) return false;
+    // Reaped by init once its parent is gone; a zombie or a live process still answers kill 0.
+    for (int i = 0; i < 100 && ::kill(static_cast<pid_t>(pid), 0) == 0; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    return ::kill(static_cast<pid_t>(pid), 0) == 0;
+  };
+  ConvertOptions o;
+  o.sign = SignMode::Tetrahedra;
+  o.tetgen = script.string();
+  o.tetgen_timeout = 0.5;
+  EXPECT_NE(message_of(test::make_box(), o).find("did not finish"), std::string::npos);
+  EXPECT_FALSE(child_alive()) << "the script's child survived the timeout";
+  fs::remove(pidfile);
+
+  // The command line, stopped by SIGTERM while TetGen runs: no scratch directory, no child.
+  const std::string mesh = (dir / "box.stl").string();
+  write_mesh(mesh, test::make_box());
+  const std::string cmd = "TMPDIR='" + (dir / "tmp").string() + "' " + FREP_CLI_PATH + " convert '" + mesh +
+                          "' --sign tets --tetgen '" + script.string() + "' -o '" + (dir / "box.frep").string() +
+                          "' > /dev/null 2>&1 & echo $!";
+  std::FILE* p = ::popen(cmd.c_str(), "r");
+  long frep_pid = 0;
+  ASSERT_EQ(std::fscanf(p, "%ld", &frep_pid), 1);
+  ::pclose(p);
+  for (int i = 0; i < 500 && !fs::exists(pidfile); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_TRUE(fs::exists(pidfile)) << "the fake TetGen did not start";
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ::kill(static_cast<pid_t>(frep_pid), SIGTERM);
+  for (int i = 0; i < 200 && ::kill(static_cast<pid_t>(frep_pid), 0) == 0; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_FALSE(child_alive()) << "TetGen's child survived frep";
+  EXPECT_TRUE(fs::is_empty(dir / "tmp")) << "a scratch directory was left in " << (dir / "tmp");
+  EXPECT_FALSE(fs::exists(dir / "box.frep"));
+  fs::remove_all(dir);
 }
 
 int run(const std::string& cmd, std::string* out = nullptr) {

@@ -17,8 +17,14 @@ void write_file_atomically(const std::string& path, const std::function<void(std
 void write_file_atomically(const std::string& path, std::string_view bytes);
 
 // Makes SIGINT, SIGTERM and SIGHUP remove the temporary file being written before the process
-// dies as the signal would (for programs: an interrupted conversion leaves no 150 MB leftover).
+// dies as the signal would (for programs: an interrupted conversion leaves no 150 MB leftover),
+// and what set_signal_cleanup registered.
 void remove_temporary_files_on_signals();
+
+// Registers a scratch directory (its files, not subdirectories, are removed, then it) and a child
+// process group (killed) for the signal handler above; one of each at a time. An empty path or
+// a group of 0 clears them.
+void set_signal_cleanup(const std::string& scratch_dir, int child_group);
 
 // Checks, before long work, that `path` could be written: its directory exists and is writable.
 // Throws InputError naming `path` otherwise.
