@@ -19,7 +19,9 @@ using Args = std::span<Value>;
 
 [[noreturn]] void wrong_args(Interp& in, std::string_view name, Args a, std::uint32_t pos, const char* expected) {
   std::string got;
-  for (const Value& v : a) got += (got.empty() ? "" : ", ") + std::string(type_name(v));
+  constexpr std::size_t kShown = 8;  // a call with 100,000 arguments gets a short message
+  for (std::size_t i = 0; i < a.size() && i < kShown; ++i) got += (got.empty() ? "" : ", ") + std::string(type_name(a[i]));
+  if (a.size() > kShown) got += ", ... (" + std::to_string(a.size()) + " arguments)";
   in.fail(pos, "`" + std::string(name) + "` takes " + expected + ", not (" + got + ")");
 }
 

@@ -2,6 +2,8 @@
 // Operators on values are in rhai_operators.cpp, conversions to trees in rhai_tree.cpp.
 #include "io/rhai_interp.hpp"
 
+#include "frep/util/memory_budget.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -51,7 +53,10 @@ Interp::Interp(std::string_view text, const std::string& name, const RhaiOptions
       parser_(lexer_, statements_, functions_),
       ast_(&statements_),
       max_steps_(options.max_steps ? options.max_steps : 100'000'000ull + 16ull * text.size()),
-      max_nodes_(options.max_nodes) {
+      // Without a limit given, a share of the machine's memory (about 100 bytes per node while a
+      // remap copies the graph, and the evaluators need more later): a script that doubles its
+      // expression in a loop stops with a message instead of exhausting memory.
+      max_nodes_(options.max_nodes ? options.max_nodes : physical_memory_bytes() / 400) {
   // Builtin names first, so that their symbol ids index small tables. (The parser has already
   // read the first token, which may have interned one name before these: that is fine, the
   // tables are indexed by whatever ids the names get.)
@@ -101,8 +106,14 @@ void Interp::charge(std::uint64_t units) {
   if (steps_ > max_steps_)
     fail(cur_pos_, "the script ran for more than " + std::to_string(max_steps_) +
                        " steps and was stopped (an endless loop?); see docs/rhai.md for the limit");
-  if (max_nodes_ && g_.size() > max_nodes_)
-    fail(cur_pos_, "the script built more than " + std::to_string(max_nodes_) + " expression nodes and was stopped");
+  check_nodes(0);
+}
+
+void Interp::check_nodes(std::uint64_t more) {
+  if (max_nodes_ && g_.size() + more > max_nodes_)
+    fail(cur_pos_, "the script built more than " + std::to_string(max_nodes_) +
+                       " expression nodes and was stopped (its expression keeps growing: a remap in a loop "
+                       "doubles it each time); see docs/rhai.md for the limit");
 }
 
 std::string Interp::text_of(const Value& v) {

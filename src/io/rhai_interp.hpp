@@ -84,6 +84,8 @@ class Interp {
   NodeId reduce(Op op, std::span<const NodeId> items);
   // The expression with x, y, z replaced (Fidget's `remap`).
   NodeId remap(NodeId e, NodeId x, NodeId y, NodeId z);
+  // Fails when the graph plus `more` nodes would pass the node limit.
+  void check_nodes(std::uint64_t more);
   // The expression evaluated at m(p) (Fidget's remap_affine, composing with an affine map that
   // produced `e`, as Fidget does).
   NodeId remap_affine(NodeId e, const Affine& m);

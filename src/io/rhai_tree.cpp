@@ -83,6 +83,8 @@ NodeId Interp::remap(NodeId e, NodeId x, NodeId y, NodeId z) {
     if (ar > 1 && map.emplace(nd.b, kNoNode).second) stack.push_back(nd.b);
   }
   charge(order.size());
+  // The copy may add as many nodes as it visits: stop before building what the limit refuses.
+  check_nodes(order.size());
   std::sort(order.begin(), order.end());
   for (NodeId n : order) {
     const Node nd = g_.node(n);

@@ -84,6 +84,10 @@ TEST(RhaiErrors, RunawayScriptsStopAtTheStepLimit) {
   o.max_nodes = 5000;
   o.max_steps = 0;
   EXPECT_TRUE(fails_at("let e = x;\nfor i in 0..100000 { e = e * 2 + i; }", 2, 1, "expression nodes", o));
+  // A remap that doubles the expression stops before it copies past the limit (by default a
+  // share of the machine's memory: this script used to take all of it).
+  EXPECT_TRUE(fails_at("let a = sin(x) + cos(y);\nfor i in 0..60 { a = remap(a, sin(a), cos(a), a); }\na", 2, 47,
+                       "expression nodes", o));
   // Bulk work costs steps too, so the limit bounds time and memory: doubling arrays and strings,
   // and traversing arrays whose parts are shared (2^100 elements in a few hundred bytes).
   o = RhaiOptions{};
