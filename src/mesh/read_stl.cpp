@@ -1,5 +1,6 @@
 // STL reader: ASCII and binary, told apart by content rather than by the "solid" prefix that
 // many binary exporters put in their header.
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -33,6 +34,15 @@ void check_finite(double v, const std::string& name, std::uint64_t line, std::ui
 }
 
 TriMesh read_binary(std::string_view b, const std::string& name) {
+  // Plain text that is not ASCII STL (another format named .stl): say so, not "truncated".
+  const std::string_view head = b.substr(0, 4096);
+  const bool text = std::all_of(head.begin(), head.end(), [](char c) {
+    const auto u = static_cast<unsigned char>(c);
+    return (u >= 0x20 && u < 0x7f) || c == '\n' || c == '\r' || c == '\t';
+  });
+  if (text && !b.empty() && (b.size() < kHeader || kHeader + kFacet * std::uint64_t(load_u32le(b.data() + 80)) != b.size()))
+    throw InputError(name, 0, "not an STL file: text that does not start with 'solid' (ASCII STL does; is it "
+                              "another format with an .stl name?)");
   if (b.size() < kHeader)
     throw InputError(name, 0, "binary STL shorter than its 84-byte header (" + std::to_string(b.size()) +
                                   " bytes)", b.size());

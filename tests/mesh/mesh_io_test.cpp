@@ -59,6 +59,10 @@ TEST(MeshIo, BinaryStlWithSolidHeaderAndWrongCount) {
   cut.resize(cut.size() - 7);
   InputError e = expect_input_error([&] { read_stl(cut, "d.stl"); }, "d.stl: byte 134: binary STL truncated");
   EXPECT_EQ(e.byte_offset(), 134u);
+  // Another text format under an .stl name is not "truncated binary".
+  expect_input_error([] { read_stl("_0 var-x\n_1 const 1\n_2 sub _0 _1\n", "f.stl"); }, "f.stl: not an STL file: text");
+  std::string long_text(500, 'a');
+  expect_input_error([&] { read_stl(long_text, "g.stl"); }, "g.stl: not an STL file: text");
   // NaN coordinate.
   tris[1][4] = NAN;
   expect_input_error([&] { read_stl(binary_stl(tris, "x", 2), "e.stl"); }, "byte 162: vertex coordinate is not a finite");
