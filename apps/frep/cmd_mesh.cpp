@@ -159,10 +159,7 @@ void register_mesh(CLI::App& app) {
       fmt::print("grid: {} x {} x {} cells of {:.6g} over {} .. {}\n", st.cells[0], st.cells[1], st.cells[2],
                  st.cell_size, fmt_point(st.bounds.lo), fmt_point(st.bounds.hi));
       if (st.capped) fmt::print("note: the shape reaches the bounds; it is cut there and closed with flat caps\n");
-      if (st.shifted)
-        fmt::print("note: {} grid corners were exactly on the surface (faces on grid planes); meshed again on a grid "
-                   "shifted by 1/64 of a cell\n",
-                   st.zero_corners);
+      print_mesh_notes(st);
       fmt::print("mesh: {} triangles, {} vertices ({}) in {:.2f} s\n", mesh.triangles.size(), mesh.vertices.size(),
                  o.method == MeshMethod::Snap ? "snap" : "dual contouring", seconds);
       fmt::print("wrote {}\n", a->output);

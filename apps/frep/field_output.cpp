@@ -142,6 +142,7 @@ void write_field_output(const std::string& input, const std::string& path, const
     fmt::print("grid: {} x {} x {} cells of {:.6g} over {} .. {}\n", st.cells[0], st.cells[1], st.cells[2],
                st.cell_size, fmt_point(st.bounds.lo), fmt_point(st.bounds.hi));
     if (st.capped) fmt::print("note: the shape reaches the bounds; it is cut there and closed with flat caps\n");
+    print_mesh_notes(st);
     fmt::print("mesh: {} triangles, {} vertices (dual contouring)\n", mesh.triangles.size(), mesh.vertices.size());
     fmt::print("wrote {}\n", path);
   }

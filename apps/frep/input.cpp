@@ -48,6 +48,16 @@ void warn_unresolved(std::size_t unresolved) {
              unresolved);
 }
 
+void print_mesh_notes(const MeshStats& st) {
+  if (st.zero_corners > 0)
+    fmt::print("note: {} grid corners were exactly on the surface (faces on grid planes); meshed again on a grid "
+               "shifted by 1/64 of a cell\n",
+               st.zero_corners);
+  if (st.unresolved_first > 0)
+    fmt::print("note: {} vertices of the first grid could not be untangled; meshed again on shifted grids ({} left)\n",
+               st.unresolved_first, st.unresolved);
+}
+
 void add_lipschitz_option(CLI::App* cmd, double& value) {
   value = -1;
   cmd->add_option("--lipschitz", value,

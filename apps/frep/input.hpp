@@ -8,6 +8,7 @@
 
 #include "frep/convert/convert.hpp"
 #include "frep/expr/model.hpp"
+#include "frep/contour/mesh_options.hpp"
 #include "frep/mesh/mesh.hpp"
 
 namespace frep::cli {
@@ -27,6 +28,10 @@ inline double lipschitz_of(const Model& m, double option) { return option >= 0 ?
 // A warning on stderr when dual contouring could not untangle some vertices (MeshStats::unresolved):
 // the mesh is still closed and manifold, but its triangles cross there.
 void warn_unresolved(std::size_t unresolved);
+
+// The mesher's notes on stdout (unless quiet): a grid shifted because corners were exactly on
+// the surface, or because vertices could not be untangled.
+void print_mesh_notes(const MeshStats& st);
 
 // Prints what a mesh reader tolerated (TriMesh::warnings) as "frep: warning: PATH: ..." lines.
 void print_read_warnings(const std::string& path, const std::vector<std::string>& warnings);

@@ -390,6 +390,36 @@ void Validation::check_shell_nesting() {
 // the point is strictly on that side by the exact predicate.
 std::vector<std::pair<std::uint32_t, Vec3>> Validation::nesting_probes() const {
   std::vector<std::pair<std::uint32_t, Vec3>> probes;  // (shell, point)
+  // True if the segment from g (on triangle `own`) to p meets another triangle of a shell whose
+  // box holds g (exact; touching counts): the probe went through a wall thinner than its offset.
+  // A budget of triangle visits over all probes (like the winding numbers' exact sums): beyond
+  // it, probes are taken as they are (a wall thinner than 1e-3 of a triangle's inradius is rare).
+  std::uint64_t budget = std::uint64_t(1) << 26;
+  const auto crosses_a_wall = [&](const Vec3& g, const Vec3& p, std::uint32_t own) {
+    Box3 seg;
+    seg.add(g);
+    seg.add(p);
+    for (const Shell& other : shells_) {
+      if (!other.box.contains(g)) continue;
+      const auto faces = topo_.shell_faces(static_cast<std::uint32_t>(&other - shells_.data()));
+      if (budget < faces.size()) return false;
+      budget -= faces.size();
+      for (std::uint32_t t : faces) {
+        if (t == own || flat_[t]) continue;
+        const Vec3 A = m_.corner(t, 0), B = m_.corner(t, 1), C = m_.corner(t, 2);
+        Box3 tb;
+        tb.add(A), tb.add(B), tb.add(C);
+        if (tb.lo.x > seg.hi.x || tb.hi.x < seg.lo.x || tb.lo.y > seg.hi.y || tb.hi.y < seg.lo.y ||
+            tb.lo.z > seg.hi.z || tb.hi.z < seg.lo.z)
+          continue;
+        const int s1 = exact::orient3d(A, B, C, g), s2 = exact::orient3d(A, B, C, p);
+        if (s1 != 0 && s1 == s2) continue;
+        const int e0 = exact::orient3d(g, p, A, B), e1 = exact::orient3d(g, p, B, C), e2 = exact::orient3d(g, p, C, A);
+        if ((e0 >= 0 && e1 >= 0 && e2 >= 0) || (e0 <= 0 && e1 <= 0 && e2 <= 0)) return true;
+      }
+    }
+    return false;
+  };
   for (std::uint32_t i = 0; i < shells_.size(); ++i) {
     const Shell& s = shells_[i];
     if (s.largest == kNone || !s.spatial) continue;
@@ -397,9 +427,16 @@ std::vector<std::pair<std::uint32_t, Vec3>> Validation::nesting_probes() const {
     const Vec3 n = cross(b - a, c - a), g = (a + b + c) / 3.0;
     double delta = 1e-3 * length(n) / (length(b - a) + length(c - b) + length(a - c));
     const Vec3 u = n / length(n);
+    // Strictly on the normal's side (doubling the offset), and before any other wall (halving it
+    // again: a flat bubble 1e-5 thick was reported as wrongly nested when the probe crossed it).
     for (int it = 0; it < 64; ++it, delta *= 2) {
       const Vec3 p = g + u * delta;
-      if (exact::orient3d(a, b, c, p) > 0) {
+      if (exact::orient3d(a, b, c, p) > 0) break;
+    }
+    for (int it = 0; it < 64; ++it, delta *= 0.25) {
+      const Vec3 p = g + u * delta;
+      if (!(exact::orient3d(a, b, c, p) > 0)) break;  // too close to tell: no probe for this shell
+      if (!crosses_a_wall(g, p, s.largest)) {
         probes.push_back({i, p});
         break;
       }

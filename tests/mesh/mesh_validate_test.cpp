@@ -466,6 +466,9 @@ TEST(Validate, ShellOrientationAndNesting) {
   EXPECT_DOUBLE_EQ(r.volume, 26.0);
   EXPECT_TRUE(validate_mesh(combined({big, apart})).is_solid());
   EXPECT_TRUE(validate_mesh(combined({inverted(small), big})).is_solid());  // shell order does not matter
+  // A cavity thinner than the probe's first offset (1e-3 of its largest triangle's inradius): the
+  // probe used to cross its far wall and report it as wrongly nested (meshes of thin sheets).
+  EXPECT_TRUE(validate_mesh(combined({big, inverted(test::make_box({0.5, 0.5, 1}, {2.5, 2.5, 1 + 1e-6}))})).is_solid());
   // An island in the cavity is fine too.
   EXPECT_TRUE(validate_mesh(combined({big, inverted(small), test::make_box({1.2, 1.2, 1.2}, {1.8, 1.8, 1.8})})).is_solid());
   for (const TriMesh& bad : {combined({big, inverted(apart)}), combined({big, small}), combined({small, big}),

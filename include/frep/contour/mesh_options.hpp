@@ -97,6 +97,9 @@ struct MeshStats {
   // by a small fraction of a cell and the mesh made again; `shifted` says so.
   std::size_t zero_corners = 0;
   bool shifted = false;
+  // Unresolved vertices of the first grid, when there were any: the mesh was then made again on
+  // grids moved by 0.37 and 0.71 of a cell, and the one with the fewest kept (`unresolved`).
+  std::size_t unresolved_first = 0;
   double seconds_bounds = 0, seconds_cells = 0, seconds_assembly = 0;
 };
 
