@@ -55,8 +55,14 @@ std::string tail_of(const fs::path& log) {
 // Runs program with args in dir, output to log; returns after it exits or the deadline passes.
 void run_tetgen(const std::string& program, const std::vector<std::string>& args, const fs::path& dir,
                 const fs::path& log, double timeout, const std::string& mesh_name) {
+  // The child runs in the scratch directory: a relative path with a slash (./tetgen, bin/tetgen)
+  // is made absolute first; a bare name is looked up in PATH as usual.
+  std::error_code ec;
+  const std::string exe = program.find('/') != std::string::npos && fs::path(program).is_relative()
+                              ? fs::absolute(program, ec).string()
+                              : program;
   std::vector<char*> argv;
-  argv.push_back(const_cast<char*>(program.c_str()));
+  argv.push_back(const_cast<char*>(exe.c_str()));
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
   const pid_t pid = ::fork();
@@ -73,7 +79,7 @@ void run_tetgen(const std::string& program, const std::vector<std::string>& args
       ::dup2(fd, 2);
       ::close(fd);
     }
-    ::execvp(program.c_str(), argv.data());
+    ::execvp(exe.c_str(), argv.data());
     ::_exit(127);
   }
   ::setpgid(pid, pid);  // also here: whichever runs first, the group exists before it is used

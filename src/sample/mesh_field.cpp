@@ -1,6 +1,10 @@
 // A mesh prepared for sampling: weld, check, topology, distance oracle, and the sign method.
 #include "frep/sample/mesh_field.hpp"
 
+#include <cstdio>
+#include <string>
+
+#include "frep/error.hpp"
 #include "frep/mesh/topology.hpp"
 #include "frep/mesh/validate.hpp"
 #include "frep/mesh/weld.hpp"
@@ -16,6 +20,13 @@ MeshField::MeshField(const TriMesh& mesh, const MeshFieldOptions& options) {
   solid_ = report.is_solid();
   summary_ = report.summary();
   area_ = report.area;
+  if (!(area_ > 0)) {
+    // Nothing to measure distances to (every triangle collapsed: degenerate, or merged by a weld
+    // tolerance as large as the mesh).
+    char tol[64] = "";
+    if (options.weld_tolerance > 0) std::snprintf(tol, sizeof tol, " after welding within %g", options.weld_tolerance);
+    throw InputError(mesh.name, 0, std::string("the mesh has no area") + tol + ": " + summary_);
+  }
   sign_ = solid_ ? options.sign : SignMethod::WindingNumber;
   WeldResult w = weld(mesh, {options.weld_tolerance});
   welded_ = std::make_unique<TriMesh>(std::move(w.mesh));

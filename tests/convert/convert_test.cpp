@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -269,6 +270,26 @@ TEST(Convert, TetGenTimeoutsAndSignalsLeaveNothingBehind) {
   EXPECT_FALSE(child_alive()) << "TetGen's child survived frep";
   EXPECT_TRUE(fs::is_empty(dir / "tmp")) << "a scratch directory was left in " << (dir / "tmp");
   EXPECT_FALSE(fs::exists(dir / "box.frep"));
+  fs::remove_all(dir);
+}
+
+// A relative program path with a slash names a file from the current directory, though TetGen
+// runs in its scratch directory (it was reported as not found).
+TEST(Convert, TetGenByARelativePath) {
+  if (std::system("command -v tetgen > /dev/null 2>&1") != 0) GTEST_SKIP() << "the tetgen program is not installed";
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(::testing::TempDir()) / ("frep_tetgen_rel_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "bin");
+  { std::ofstream(dir / "bin" / "tg.sh") << "#!/bin/sh\nexec tetgen \"$@\"\n"; }
+  fs::permissions(dir / "bin" / "tg.sh", fs::perms::owner_all);
+  const fs::path cwd = fs::current_path();
+  fs::current_path(dir);
+  ConvertOptions o;
+  o.sign = SignMode::Tetrahedra;
+  o.tetgen = "bin/tg.sh";
+  const std::string message = message_of(test::make_box(), o);
+  fs::current_path(cwd);
+  EXPECT_EQ(message, "") << message;
   fs::remove_all(dir);
 }
 

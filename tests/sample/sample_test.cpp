@@ -209,6 +209,19 @@ TEST(SamplePoints, AbsurdSigmaAndCountsAreRefused) {
   EXPECT_THROW(sample_uniform(tape, {{-1, -1, -1}, {1, 1, 1}}, std::size_t(1) << 63, {}), InputError);
 }
 
+// Nothing to measure distances to: every triangle merged by a weld tolerance as large as the
+// mesh is an error naming the tolerance (it used to fail later on an empty box).
+TEST(SamplePoints, AMeshWithNoAreaIsRefused) {
+  MeshFieldOptions o;
+  o.weld_tolerance = 1e300;
+  try {
+    const MeshField field(test::make_box(), o);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no area after welding within 1e+300"), std::string::npos) << e.what();
+  }
+}
+
 TEST(SamplePoints, ExpressionPoints) {
   Graph g;
   const Expr x = g.x(), y = g.y(), z = g.z();
