@@ -123,8 +123,8 @@ TriMesh Mesher::mesh(const Tape& tape) {
   const bool found = margin > 0;  // the region was found (or known), not given: closed at the grid's box
   std::uint64_t zeros = 0;
   const auto run = [&](double shift) -> TriMesh {
-    // A shifted grid needs a cell more on every side to cover the region.
-    const MeshGrid grid = make_grid(region, h, shift != 0 ? margin + 1 : margin, shift);
+    // A shifted grid needs a cell on every side to cover the region.
+    const MeshGrid grid = make_grid(region, h, shift != 0 && margin == 0 ? 1 : margin, shift);
     st.surface_cells = 0;
     st.capped = false;
     st.unresolved = 0;
@@ -224,7 +224,11 @@ TriMesh Mesher::mesh(const Tape& tape) {
     for (const auto& l : leafers) zeros += l->zero_corners();
     return mesh;
   };
-  TriMesh mesh = run(0);
+  // A found or known region's faces are the shape's own extremes, and -r N makes the longest
+  // side exactly N cells: unshifted, a flat extreme face (any CAD part's) would lie on grid
+  // corners and cost the second pass below. Given bounds are the user's grid.
+  const double first_shift = found ? 1.0 / 64 : 0.0;
+  TriMesh mesh = run(first_shift);
   if (zeros > 0) {
     // Corners exactly on the surface: faces on grid planes, where "f = 0 is outside" splits
     // touching solids and drops features one cell thick. On a grid moved by a sliver of a cell
@@ -233,7 +237,7 @@ TriMesh Mesher::mesh(const Tape& tape) {
     st.zero_corners = zeros;
     st.shifted = true;
     const double seconds_cells = st.seconds_cells, seconds_assembly = st.seconds_assembly;
-    mesh = run(1.0 / 64);
+    mesh = run(first_shift + 1.0 / 64 + (found ? 0.5 : 0.0));
     st.seconds_cells += seconds_cells;
     st.seconds_assembly += seconds_assembly;
   }
