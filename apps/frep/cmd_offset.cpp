@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include <optional>
+
 #include "commands.hpp"
 #include "field_output.hpp"
 #include "input.hpp"
@@ -40,14 +42,17 @@ void register_offset(CLI::App& app) {
     Model m = load_input(a->input, o->quiet);
     o->lipschitz = lipschitz_of(m, o->lipschitz);  // an offset keeps it
     const Expr result = ugf::offset(m.root_expr(), static_cast<float>(a->distance));
-    const Tape result_tape = Tape::compile(*m.graph, result.id());
+    // Compiled once, and only if needed: for the bounds check or the mesh.
+    const bool mesh_out = is_mesh_output(a->output);
+    std::optional<Tape> tape;
+    if (mesh_out || !m.info.bounds.empty()) tape = Tape::compile(*m.graph, result.id());
     // For a distance, the result's inside is the input's grown by the distance (shrunk boxes stay
     // valid); checked, since other fields reach farther.
     FieldInfo info{std::max(0.0, o->lipschitz), {}};
-    info.bounds = checked_growth(result_tape, m.info.bounds.inflated(std::max(a->distance, 0.0)));
+    if (!m.info.bounds.empty()) info.bounds = checked_growth(*tape, m.info.bounds.inflated(std::max(a->distance, 0.0)));
     // Only a mesh output needs the region (an expression is saved whatever its bounds).
-    const Box3 region = is_mesh_output(a->output) ? input_region(a->input, info, result_tape, *o) : Box3{};
-    write_field_output(a->input, a->output, *m.graph, result.id(), region, *o, info);
+    const Box3 region = mesh_out ? input_region(a->input, info, *tape, *o) : Box3{};
+    write_field_output(a->input, a->output, *m.graph, result.id(), region, *o, info, tape ? &*tape : nullptr);
   });
 }
 

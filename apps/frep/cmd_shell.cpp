@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include <optional>
+
 #include "commands.hpp"
 #include "field_output.hpp"
 #include "input.hpp"
@@ -52,11 +54,14 @@ void register_shell(CLI::App& app) {
     const Expr result = inward ? ugf::shell_inward(f, t) : outward ? ugf::shell_outward(f, t) : ugf::shell(f, t);
     // The wall's inside: for a distance, within the input's box grown by what the wall adds
     // outside; checked, since other fields reach farther.
-    const Tape result_tape = Tape::compile(*m.graph, result.id());
+    const bool mesh_out = is_mesh_output(a->output);
+    std::optional<Tape> tape;  // compiled once, and only if needed
+    if (mesh_out || !m.info.bounds.empty()) tape = Tape::compile(*m.graph, result.id());
     FieldInfo info{std::max(0.0, o->lipschitz), {}};
-    info.bounds = checked_growth(result_tape, m.info.bounds.inflated(inward ? 0.0 : outward ? a->thickness : a->thickness / 2));
-    if (is_mesh_output(a->output)) {
-      const Box3 region = input_region(a->input, info, result_tape, *o);
+    if (!m.info.bounds.empty())
+      info.bounds = checked_growth(*tape, m.info.bounds.inflated(inward ? 0.0 : outward ? a->thickness : a->thickness / 2));
+    if (mesh_out) {
+      const Box3 region = input_region(a->input, info, *tape, *o);
       const Vec3 size = region.size();
       const double longest = std::max({size.x, size.y, size.z});
       // Without --resolution, the wall gets at least 3 cells across (up to 1024 cells), since
@@ -77,7 +82,7 @@ void register_shell(CLI::App& app) {
                    "frep: warning: the wall ({:.6g}) is thinner than two cells ({:.6g}); parts of it may be lost in the "
                    "mesh: raise --resolution\n",
                    a->thickness, cell);
-      write_field_output(a->input, a->output, *m.graph, result.id(), region, *o, info);
+      write_field_output(a->input, a->output, *m.graph, result.id(), region, *o, info, &*tape);
     } else {
       write_field_output(a->input, a->output, *m.graph, result.id(), Box3{}, *o, info);
     }

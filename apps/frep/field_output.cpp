@@ -109,7 +109,7 @@ Box3 checked_growth(const Tape& result, const Box3& grown) {
 }
 
 void write_field_output(const std::string& input, const std::string& path, const Graph& g, NodeId root,
-                        const Box3& region, const FieldOutputOptions& o, const FieldInfo& info) {
+                        const Box3& region, const FieldOutputOptions& o, const FieldInfo& info, const Tape* tape) {
   if (!is_mesh_output(path)) {
     save_expression(path, g, root, info);
     if (!o.quiet) fmt::print("wrote {} (the expression)\n", path);
@@ -127,7 +127,7 @@ void write_field_output(const std::string& input, const std::string& path, const
   MeshStats st;
   TriMesh mesh;
   try {
-    mesh = mesh_expression(Tape::compile(g, root), mo, &st);
+    mesh = tape ? mesh_expression(*tape, mo, &st) : mesh_expression(Tape::compile(g, root), mo, &st);
   } catch (const InputError& e) {
     if (!e.file().empty()) throw;
     throw InputError(input, 0, e.detail());

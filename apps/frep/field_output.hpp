@@ -54,7 +54,9 @@ Box3 checked_growth(const Tape& result, const Box3& grown);
 // `region` as the known box of its inside (one extra cell on every side), or over the given
 // --bounds exactly (cut and capped there). InputError naming `input` when the result is empty.
 // Expressions keep `info` (what is known of the result).
+// `tape`, when given, is root's compiled tape (not compiled again).
 void write_field_output(const std::string& input, const std::string& path, const Graph& g, NodeId root,
-                        const Box3& region, const FieldOutputOptions& o, const FieldInfo& info);
+                        const Box3& region, const FieldOutputOptions& o, const FieldInfo& info,
+                        const Tape* tape = nullptr);
 
 }  // namespace frep::cli

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <mutex>
+#include <new>
 #include <string>
 
 #include "contour/assemble.hpp"
@@ -122,7 +123,10 @@ TriMesh Mesher::mesh(const Tape& tape) {
   if (!(h > 0) || !std::isfinite(h)) throw InputError("", 0, "the region to mesh has no extent");
   const bool found = margin > 0;  // the region was found (or known), not given: closed at the grid's box
   std::uint64_t zeros = 0;
+  int passes = 0;
   const auto run = [&](double shift) -> TriMesh {
+    // Progress comes from the first pass only (a rerun on a shifted grid would go back to 0).
+    const bool reporting = passes++ == 0;
     // A shifted grid needs a cell on every side to cover the region.
     const MeshGrid grid = make_grid(region, h, shift != 0 && margin == 0 ? 1 : margin, shift);
     st.surface_cells = 0;
@@ -197,12 +201,13 @@ TriMesh Mesher::mesh(const Tape& tape) {
                                 static_cast<std::uint64_t>(b.count());
         const std::int64_t now = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start).count();
         std::int64_t last = last_report.load(std::memory_order_relaxed);
-        if (now - last >= 200 && last_report.compare_exchange_strong(last, now)) report("cells", static_cast<double>(d) / total);
+        if (reporting && now - last >= 200 && last_report.compare_exchange_strong(last, now))
+          report("cells", static_cast<double>(d) / total);
       }
     };
     sub.run(closed, grid.grid, visitor);
     if (cancelled()) throw MeshCancelled();
-    report("cells", 1);
+    if (reporting) report("cells", 1);
     st.seconds_cells = seconds_since(t1);
 
     // Assembly in leaf order.
@@ -237,6 +242,7 @@ TriMesh Mesher::mesh(const Tape& tape) {
     st.zero_corners = zeros;
     st.shifted = true;
     const double seconds_cells = st.seconds_cells, seconds_assembly = st.seconds_assembly;
+    mesh = TriMesh{};  // not needed any more: free it for the second pass
     mesh = run(first_shift + 1.0 / 64 + (found ? 0.5 : 0.0));
     st.seconds_cells += seconds_cells;
     st.seconds_assembly += seconds_assembly;
@@ -247,10 +253,21 @@ TriMesh Mesher::mesh(const Tape& tape) {
     // moved by part of a cell, usually has none. The mesh with the fewest is kept.
     st.unresolved_first = st.unresolved;
     for (double shift : {0.37, 0.71}) {
-      if (cancelled()) break;
+      if (cancelled()) throw MeshCancelled();
       MeshStats best = st;
       const double seconds_cells = st.seconds_cells, seconds_assembly = st.seconds_assembly;
-      TriMesh other = run(shift);
+      TriMesh other;
+      try {
+        other = run(shift);
+      } catch (const MeshCancelled&) {
+        throw;
+      } catch (const InputError&) {  // the moved grid needs a cell more: beyond floats or the cell limit
+        st = best;
+        break;
+      } catch (const std::bad_alloc&) {  // no room for a second mesh: keep the first
+        st = best;
+        break;
+      }
       st.seconds_cells += seconds_cells;
       st.seconds_assembly += seconds_assembly;
       st.shifted = true;

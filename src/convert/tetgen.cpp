@@ -5,6 +5,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -65,13 +66,24 @@ void run_tetgen(const std::string& program, const std::vector<std::string>& args
   argv.push_back(const_cast<char*>(exe.c_str()));
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
+  // Signals that clean up (see remove_temporary_files_on_signals) wait until the child's group is
+  // registered: a Ctrl-C right after the fork would otherwise leave it running.
+  sigset_t cleanup_signals, before;
+  sigemptyset(&cleanup_signals);
+  for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&cleanup_signals, sig);
+  ::pthread_sigmask(SIG_BLOCK, &cleanup_signals, &before);
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
+  if (pid < 0) ::pthread_sigmask(SIG_SETMASK, &before, nullptr);
   if (pid < 0) throw InputError(mesh_name, 0, std::string("cannot start TetGen: ") + std::strerror(errno));
   if (pid == 0) {
     // Child: own process group (a timeout or a signal then kills whatever it started too), own
     // directory and log; exit 127 if the program cannot be run.
     // Only async-signal-safe calls here: the parent may have other threads.
     ::setpgid(0, 0);
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);  // frep killed outright (SIGKILL, a crash): TetGen goes too
+    if (::getppid() != parent) ::_exit(125);  // frep was already gone
+    ::pthread_sigmask(SIG_SETMASK, &before, nullptr);
     if (::chdir(dir.c_str()) != 0) ::_exit(126);
     const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd >= 0) {
@@ -84,6 +96,7 @@ void run_tetgen(const std::string& program, const std::vector<std::string>& args
   }
   ::setpgid(pid, pid);  // also here: whichever runs first, the group exists before it is used
   set_signal_cleanup(dir.string(), pid);
+  ::pthread_sigmask(SIG_SETMASK, &before, nullptr);
   struct Forget {  // the group is gone once waited for
     fs::path dir;
     ~Forget() { set_signal_cleanup(dir.string(), 0); }

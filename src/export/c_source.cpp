@@ -78,7 +78,7 @@ static inline float frep_square(float a) { return a * a; }
 void write_c(std::ostream& out, const Graph& g, NodeId root, const CExportOptions& opt) {
   const std::string& name = opt.function_name;
   if (!export_detail::is_identifier(name) || name == "x" || name == "y" || name == "z" ||
-      export_detail::is_reserved_name(name))
+      export_detail::is_reserved_name(name, export_detail::Language::C))
     throw InputError("", 0, "C function name '" + name +
                                 "' is not a C identifier, or is reserved (x, y, z, a keyword or type, a math function, or frep_*)");
   const std::vector<NodeId> order = reachable_nodes(g, root);

@@ -57,7 +57,9 @@ inline bool is_identifier(std::string_view s) {
 
 // Words a generated function may not be called: C and GLSL keywords and type names (a function
 // named `int` or `float` does not compile), and the helpers the exports write themselves (frep_*).
-inline bool is_reserved_name(std::string_view s) {
+enum class Language { C, Glsl };
+
+inline bool is_reserved_name(std::string_view s, Language lang) {
   static constexpr std::string_view kReserved[] = {
       // C (C99 to C23)
       "auto", "break", "case", "char", "const", "continue", "default", "do", "double", "else", "enum", "extern",
@@ -72,21 +74,30 @@ inline bool is_reserved_name(std::string_view s) {
       "invariant", "precise", "discard", "lowp", "mediump", "highp", "precision", "struct", "uint", "vec2", "vec3",
       "vec4", "ivec2", "ivec3", "ivec4", "uvec2", "uvec3", "uvec4", "bvec2", "bvec3", "bvec4", "dvec2", "dvec3",
       "dvec4", "mat2", "mat3", "mat4", "sampler2D", "sampler3D", "samplerCube", "mainImage", "auto_step_scale"};
-  // Functions and macros of <math.h> (also with their f and l suffixes) and GLSL's built-in
-  // functions: the generated code calls them, or a function of that name would clash.
-  static constexpr std::string_view kMath[] = {
-      "abs", "acos", "acosh", "asin", "asinh", "atan", "atan2", "atanh", "cbrt", "ceil", "clamp", "copysign", "cos",
-      "cosh", "cross", "degrees", "distance", "dot", "erf", "erfc", "exp", "exp2", "expm1", "fabs", "faceforward",
-      "fdim", "floor", "fma", "fmax", "fmin", "fmod", "fract", "frexp", "hypot", "inversesqrt", "isfinite", "isinf",
-      "isnan", "isnormal", "ldexp", "length", "lgamma", "log", "log10", "log1p", "log2", "max", "min", "mix", "mod",
-      "modf", "nan", "nearbyint", "normalize", "pow", "radians", "reflect", "refract", "remainder", "rint", "round",
-      "roundEven", "sign", "signbit", "sin", "sinh", "smoothstep", "sqrt", "step", "tan", "tanh", "texture",
-      "texelFetch", "tgamma", "trunc", "NAN", "INFINITY", "HUGE_VAL", "HUGE_VALF", "M_PI", "fpclassify"};
+  // Functions and macros of <math.h> (also with their f and l suffixes) for C, GLSL's built-in
+  // functions for GLSL: the generated code calls them, or a function of that name would clash.
+  static constexpr std::string_view kCMath[] = {
+      "acos", "acosh", "asin", "asinh", "atan", "atan2", "atanh", "cbrt", "ceil", "copysign", "cos", "cosh", "erf",
+      "erfc", "exp", "exp2", "expm1", "fabs", "fdim", "floor", "fma", "fmax", "fmin", "fmod", "frexp", "hypot",
+      "isfinite", "isinf", "isnan", "isnormal", "ldexp", "lgamma", "log", "log10", "log1p", "log2", "modf", "nan",
+      "nearbyint", "pow", "remainder", "rint", "round", "signbit", "sin", "sinh", "sqrt", "tan", "tanh", "tgamma",
+      "trunc", "NAN", "INFINITY", "HUGE_VAL", "HUGE_VALF", "M_PI", "fpclassify", "abs"};
+  static constexpr std::string_view kGlslBuiltins[] = {
+      "abs", "acos", "acosh", "asin", "asinh", "atan", "atanh", "ceil", "clamp", "cos", "cosh", "cross", "degrees",
+      "distance", "dot", "exp", "exp2", "faceforward", "floor", "fma", "fract", "inversesqrt", "isinf", "isnan",
+      "length", "log", "log2", "max", "min", "mix", "mod", "modf", "normalize", "pow", "radians", "reflect", "refract",
+      "round", "roundEven", "sign", "sin", "sinh", "smoothstep", "sqrt", "step", "tan", "tanh", "texture",
+      "texelFetch", "trunc"};
   for (std::string_view r : kReserved)
     if (s == r) return true;
-  for (std::string_view r : kMath)
-    if (s == r || (s.size() == r.size() + 1 && s.substr(0, r.size()) == r && (s.back() == 'f' || s.back() == 'l')))
-      return true;
+  if (lang == Language::C) {
+    for (std::string_view r : kCMath)
+      if (s == r || (s.size() == r.size() + 1 && s.substr(0, r.size()) == r && (s.back() == 'f' || s.back() == 'l')))
+        return true;
+  } else {
+    for (std::string_view r : kGlslBuiltins)
+      if (s == r) return true;
+  }
   return s.rfind("frep_", 0) == 0 && s != "frep_sdf";
 }
 

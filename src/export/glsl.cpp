@@ -98,7 +98,7 @@ const char* helper_text(const Helper& h, bool nan_checks) { return nan_checks ||
 
 void check_name(const std::string& name) {
   if (!export_detail::is_identifier(name) || name == "p" || name.rfind("gl_", 0) == 0 ||
-      name.find("__") != std::string::npos || export_detail::is_reserved_name(name))
+      name.find("__") != std::string::npos || export_detail::is_reserved_name(name, export_detail::Language::Glsl))
     throw InputError("", 0,
                      "GLSL function name '" + name +
                          "' is not a GLSL identifier, or is reserved (p, gl_*, __, a keyword or type, a built-in function, or frep_*)");

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/syscall.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -30,8 +31,8 @@ char g_scratch[4096];
 std::atomic<bool> g_has_scratch{false};
 std::atomic<int> g_child_group{0};
 
-// Removes the files of a directory, then the directory, with system calls only (async-signal-safe:
-// no allocation, no locks).
+// Removes the files of a directory with system calls only (async-signal-safe: no allocation, no
+// locks). Removing while reading may skip entries on some file systems: callers read again.
 void remove_flat_directory(const char* dir) {
   const int fd = ::open(dir, O_RDONLY | O_DIRECTORY);
   if (fd >= 0) {
@@ -47,13 +48,16 @@ void remove_flat_directory(const char* dir) {
       }
     ::close(fd);
   }
-  ::rmdir(dir);
 }
 
 void remove_and_die(int sig) {
   if (g_writing.load()) ::unlink(g_temporary);
-  if (const int group = g_child_group.load(); group > 0) ::kill(-group, SIGKILL);
-  if (g_has_scratch.load()) remove_flat_directory(g_scratch);
+  if (const int group = g_child_group.load(); group > 0) {
+    ::kill(-group, SIGKILL);
+    ::waitpid(group, nullptr, 0);  // dead before its directory goes: it writes no more files there
+  }
+  if (g_has_scratch.load())
+    for (int pass = 0; pass < 3 && ::rmdir(g_scratch) != 0; ++pass) remove_flat_directory(g_scratch);
   std::signal(sig, SIG_DFL);
   std::raise(sig);
 }
@@ -75,7 +79,12 @@ std::filesystem::path resolve_links(const std::string& path) {
 }  // namespace
 
 void remove_temporary_files_on_signals() {
-  for (int sig : {SIGINT, SIGTERM, SIGHUP}) std::signal(sig, remove_and_die);
+  for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) {
+    // A signal ignored from the start (nohup, a shell's background job) stays ignored.
+    struct sigaction old {};
+    if (::sigaction(sig, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+    std::signal(sig, remove_and_die);
+  }
 }
 
 void set_signal_cleanup(const std::string& scratch_dir, int child_group) {

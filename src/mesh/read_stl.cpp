@@ -38,7 +38,7 @@ TriMesh read_binary(std::string_view b, const std::string& name) {
   const std::string_view head = b.substr(0, 4096);
   const bool text = std::all_of(head.begin(), head.end(), [](char c) {
     const auto u = static_cast<unsigned char>(c);
-    return (u >= 0x20 && u < 0x7f) || c == '\n' || c == '\r' || c == '\t';
+    return (u >= 0x20 && u != 0x7f) || c == '\n' || c == '\r' || c == '\t';  // UTF-8 counts as text
   });
   if (text && !b.empty() && (b.size() < kHeader || kHeader + kFacet * std::uint64_t(load_u32le(b.data() + 80)) != b.size()))
     throw InputError(name, 0, "not an STL file: text that does not start with 'solid' (ASCII STL does; is it "

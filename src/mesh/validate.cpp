@@ -116,6 +116,8 @@ class Validation {
  private:
   std::vector<std::pair<std::uint32_t, Vec3>> nesting_probes() const;
   std::vector<double> winding_numbers_at(const std::vector<std::pair<std::uint32_t, Vec3>>& probes) const;
+  // Shells whose (closed) box meets `b`, through a hierarchy over the shell boxes built once.
+  void shells_meeting(const Box3& b, std::vector<std::uint32_t>& out) const;
 
   const TriMesh& raw_;
   const ValidationOptions& opt_;
@@ -128,6 +130,8 @@ class Validation {
   std::vector<Shell> shells_;
   double volume_ = 0;
   std::optional<TriangleBvh> bvh_;  // of the intersection test
+  std::vector<std::uint32_t> bvh_triangles_;  // when bvh_ is over a subset: its triangles' indices in m_
+  mutable std::optional<TriangleBvh> shell_bvh_;  // over the shell boxes (each a "triangle" from lo to hi)
   bool bvh_is_whole_ = false;       // over every triangle of m_ (then the nesting test reuses it)
 
   Vec3 unscale(const Vec3& p) const {
@@ -342,6 +346,7 @@ void Validation::check_self_intersections() {
     sub.vertices = m_.vertices;
     for (std::uint32_t t : live) sub.triangles.push_back(m_.triangles[t]);
     bvh_.emplace(sub);
+    bvh_triangles_ = live;
   }
   const int threads = std::min(resolve_thread_count(opt_.threads), 1024);
   std::vector<PairTally> found(threads);
@@ -391,32 +396,59 @@ void Validation::check_shell_nesting() {
 std::vector<std::pair<std::uint32_t, Vec3>> Validation::nesting_probes() const {
   std::vector<std::pair<std::uint32_t, Vec3>> probes;  // (shell, point)
   // True if the segment from g (on triangle `own`) to p meets another triangle of a shell whose
-  // box holds g (exact; touching counts): the probe went through a wall thinner than its offset.
+  // box meets the segment's (exact; touching counts): the probe went through a wall thinner than
+  // its offset.
   // A budget of triangle visits over all probes (like the winding numbers' exact sums): beyond
   // it, probes are taken as they are (a wall thinner than 1e-3 of a triangle's inradius is rare).
   std::uint64_t budget = std::uint64_t(1) << 26;
+  std::vector<std::uint32_t> near;
   const auto crosses_a_wall = [&](const Vec3& g, const Vec3& p, std::uint32_t own) {
     Box3 seg;
     seg.add(g);
     seg.add(p);
-    for (const Shell& other : shells_) {
-      if (!other.box.contains(g)) continue;
-      const auto faces = topo_.shell_faces(static_cast<std::uint32_t>(&other - shells_.data()));
-      if (budget < faces.size()) return false;
-      budget -= faces.size();
-      for (std::uint32_t t : faces) {
-        if (t == own || flat_[t]) continue;
-        const Vec3 A = m_.corner(t, 0), B = m_.corner(t, 1), C = m_.corner(t, 2);
-        Box3 tb;
-        tb.add(A), tb.add(B), tb.add(C);
-        if (tb.lo.x > seg.hi.x || tb.hi.x < seg.lo.x || tb.lo.y > seg.hi.y || tb.hi.y < seg.lo.y ||
-            tb.lo.z > seg.hi.z || tb.hi.z < seg.lo.z)
+    // Candidates: from the intersection test's hierarchy when there is one, else every triangle
+    // of the shells whose boxes meet the segment's (within the budget).
+    near.clear();
+    if (bvh_) {
+      std::vector<std::uint32_t> stack{0};
+      while (!stack.empty()) {
+        const TriangleBvh::Node& n = bvh_->nodes()[stack.back()];
+        stack.pop_back();
+        if (n.lo[0] > seg.hi.x || n.hi[0] < seg.lo.x || n.lo[1] > seg.hi.y || n.hi[1] < seg.lo.y || n.lo[2] > seg.hi.z ||
+            n.hi[2] < seg.lo.z)
           continue;
-        const int s1 = exact::orient3d(A, B, C, g), s2 = exact::orient3d(A, B, C, p);
-        if (s1 != 0 && s1 == s2) continue;
-        const int e0 = exact::orient3d(g, p, A, B), e1 = exact::orient3d(g, p, B, C), e2 = exact::orient3d(g, p, C, A);
-        if ((e0 >= 0 && e1 >= 0 && e2 >= 0) || (e0 <= 0 && e1 <= 0 && e2 <= 0)) return true;
+        if (!n.leaf()) {
+          stack.push_back(n.index);
+          stack.push_back(n.index + 1);
+          continue;
+        }
+        for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
+          const std::uint32_t t = bvh_->order()[i];
+          near.push_back(bvh_triangles_.empty() ? t : bvh_triangles_[t]);
+        }
       }
+    } else {
+      std::vector<std::uint32_t> shells;
+      shells_meeting(seg, shells);
+      for (std::uint32_t j : shells) {
+        const auto faces = topo_.shell_faces(j);
+        if (budget < faces.size()) return false;
+        budget -= faces.size();
+        near.insert(near.end(), faces.begin(), faces.end());
+      }
+    }
+    for (std::uint32_t t : near) {
+      if (t == own || flat_[t]) continue;
+      const Vec3 A = m_.corner(t, 0), B = m_.corner(t, 1), C = m_.corner(t, 2);
+      Box3 tb;
+      tb.add(A), tb.add(B), tb.add(C);
+      if (tb.lo.x > seg.hi.x || tb.hi.x < seg.lo.x || tb.lo.y > seg.hi.y || tb.hi.y < seg.lo.y ||
+          tb.lo.z > seg.hi.z || tb.hi.z < seg.lo.z)
+        continue;
+      const int s1 = exact::orient3d(A, B, C, g), s2 = exact::orient3d(A, B, C, p);
+      if (s1 != 0 && s1 == s2) continue;
+      const int e0 = exact::orient3d(g, p, A, B), e1 = exact::orient3d(g, p, B, C), e2 = exact::orient3d(g, p, C, A);
+      if ((e0 >= 0 && e1 >= 0 && e2 >= 0) || (e0 <= 0 && e1 <= 0 && e2 <= 0)) return true;
     }
     return false;
   };
@@ -452,37 +484,49 @@ std::vector<std::pair<std::uint32_t, Vec3>> Validation::nesting_probes() const {
 // makes the exact sums too expensive, the hierarchical (far-field dipole) winding number of the
 // whole mesh is used, built on the welded mesh, its topology and, if it covers every triangle,
 // the intersection test's hierarchy.
+void Validation::shells_meeting(const Box3& b, std::vector<std::uint32_t>& out) const {
+  out.clear();
+  if (!shell_bvh_) {
+    TriMesh box_mesh;
+    for (std::uint32_t i = 0; i < shells_.size(); ++i) {
+      box_mesh.vertices.push_back(shells_[i].box.lo);
+      box_mesh.vertices.push_back(shells_[i].box.hi);
+      box_mesh.triangles.push_back({2 * i, 2 * i + 1, 2 * i});
+    }
+    shell_bvh_.emplace(box_mesh);
+  }
+  if (shell_bvh_->empty()) return;
+  const auto meets = [&](const Box3& a) {
+    return a.lo.x <= b.hi.x && b.lo.x <= a.hi.x && a.lo.y <= b.hi.y && b.lo.y <= a.hi.y && a.lo.z <= b.hi.z &&
+           b.lo.z <= a.hi.z;
+  };
+  std::vector<std::uint32_t> stack{0};
+  while (!stack.empty()) {
+    const TriangleBvh::Node& n = shell_bvh_->nodes()[stack.back()];
+    stack.pop_back();
+    if (!meets(Box3{{n.lo[0], n.lo[1], n.lo[2]}, {n.hi[0], n.hi[1], n.hi[2]}})) continue;
+    if (!n.leaf()) {
+      stack.push_back(n.index);
+      stack.push_back(n.index + 1);
+      continue;
+    }
+    for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
+      const std::uint32_t j = shell_bvh_->order()[i];
+      if (meets(shells_[j].box)) out.push_back(j);
+    }
+  }
+}
+
 std::vector<double> Validation::winding_numbers_at(const std::vector<std::pair<std::uint32_t, Vec3>>& probes) const {
   std::vector<std::size_t> live_faces(shells_.size(), 0);  // per shell: triangles not flat
-  TriMesh box_mesh;
-  for (std::uint32_t i = 0; i < shells_.size(); ++i) {
+  for (std::uint32_t i = 0; i < shells_.size(); ++i)
     for (std::uint32_t t : topo_.shell_faces(i)) live_faces[i] += !flat_[t];
-    box_mesh.vertices.push_back(shells_[i].box.lo);
-    box_mesh.vertices.push_back(shells_[i].box.hi);
-    box_mesh.triangles.push_back({2 * i, 2 * i + 1, 2 * i});
-  }
-  const TriangleBvh box_bvh(box_mesh);
   std::vector<std::vector<std::uint32_t>> around(probes.size());  // shells whose box holds the probe
   std::size_t work = 0;
-  std::vector<std::uint32_t> stack;
   for (std::size_t k = 0; k < probes.size(); ++k) {
     const Vec3& p = probes[k].second;
-    stack.assign(1, 0);
-    while (!stack.empty()) {
-      const TriangleBvh::Node& n = box_bvh.nodes()[stack.back()];
-      stack.pop_back();
-      if (!(n.lo[0] <= p.x && p.x <= n.hi[0] && n.lo[1] <= p.y && p.y <= n.hi[1] && n.lo[2] <= p.z && p.z <= n.hi[2]))
-        continue;
-      if (!n.leaf()) {
-        stack.push_back(n.index);
-        stack.push_back(n.index + 1);
-        continue;
-      }
-      for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
-        const std::uint32_t j = box_bvh.order()[i];
-        if (shells_[j].box.contains(p)) around[k].push_back(j), work += live_faces[j];
-      }
-    }
+    shells_meeting(Box3{p, p}, around[k]);
+    for (std::uint32_t j : around[k]) work += live_faces[j];
   }
   std::vector<double> wn(probes.size(), 0.0);
   if (work <= (std::size_t(1) << 23)) {

@@ -238,10 +238,16 @@ TEST(Convert, TetGenTimeoutsAndSignalsLeaveNothingBehind) {
     std::ifstream in(pidfile);
     long pid = 0;
     if (!(in >> pid) || pid <= 0) return false;
-    // Reaped by init once its parent is gone; a zombie or a live process still answers kill 0.
-    for (int i = 0; i < 100 && ::kill(static_cast<pid_t>(pid), 0) == 0; ++i)
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    return ::kill(static_cast<pid_t>(pid), 0) == 0;
+    // Running or sleeping; a zombie (killed, not yet reaped: containers may have no init that
+    // reaps) is dead.
+    const auto running = [&] {
+      std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+      std::string text((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
+      const std::size_t paren = text.rfind(')');
+      return paren != std::string::npos && paren + 2 < text.size() && text[paren + 2] != 'Z' && text[paren + 2] != 'X';
+    };
+    for (int i = 0; i < 100 && running(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    return running();
   };
   ConvertOptions o;
   o.sign = SignMode::Tetrahedra;

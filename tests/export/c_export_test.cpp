@@ -98,6 +98,16 @@ std::size_t count(const std::string& s, const std::string& what) {
 
 std::string body(const std::string& c) { return c.substr(c.find("float frep_sdf(")); }
 
+// Names of <math.h> are refused (the code would not compile), GLSL's built-ins are fine in C.
+TEST(CExport, MathNamesAreReservedGlslOnesAreNot) {
+  Graph g;
+  const NodeId f = (g.x() - 1.0f).id();
+  EXPECT_THROW(export_c(g, f, "sqrtf"), InputError);
+  EXPECT_THROW(export_c(g, f, "hypot"), InputError);
+  EXPECT_NE(export_c(g, f, "distance").find("float distance(float x, float y, float z)"), std::string::npos);
+  EXPECT_NE(export_c(g, f, "smoothstep").find("float smoothstep("), std::string::npos);
+}
+
 TEST(CExport, SharedSubexpressionsAreComputedOnce) {
   Graph g;
   auto x = g.x(), y = g.y(), z = g.z();

@@ -113,6 +113,7 @@ TEST_F(ExportCli, ErrorsHaveTheDocumentedExitCodesAndLeaveNoFile) {
       {shell_quote(model_) + " -f shadertoy --name mainImage -o " + shell_quote(out), 2, "is reserved"},
       {shell_quote(model_) + " -f c --name sqrtf -o " + shell_quote(out), 2, "is reserved"},
       {shell_quote(model_) + " -f glsl --name mod -o " + shell_quote(out), 2, "is reserved"},
+      {shell_quote(model_) + " -f glsl --name distance -o " + shell_quote(out), 2, "is reserved"},
       {shell_quote(model_) + " -f c --fragment -o " + shell_quote(out), 2, "--fragment"},
       {shell_quote(model_) + " -f latex --no-nan-checks -o " + shell_quote(out), 2, "--nan-checks"},
       {shell_quote(model_) + " -f shadertoy --step-scale 2 -o " + shell_quote(out), 2, "step-scale"},

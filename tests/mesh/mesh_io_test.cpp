@@ -63,6 +63,7 @@ TEST(MeshIo, BinaryStlWithSolidHeaderAndWrongCount) {
   expect_input_error([] { read_stl("_0 var-x\n_1 const 1\n_2 sub _0 _1\n", "f.stl"); }, "f.stl: not an STL file: text");
   std::string long_text(500, 'a');
   expect_input_error([&] { read_stl(long_text, "g.stl"); }, "g.stl: not an STL file: text");
+  expect_input_error([] { read_stl("\xEF\xBB\xBF// caf\xC3\xA9\nx - 1\n", "h.stl"); }, "h.stl: not an STL file: text");
   // NaN coordinate.
   tris[1][4] = NAN;
   expect_input_error([&] { read_stl(binary_stl(tris, "x", 2), "e.stl"); }, "byte 162: vertex coordinate is not a finite");

@@ -469,6 +469,9 @@ TEST(Validate, ShellOrientationAndNesting) {
   // A cavity thinner than the probe's first offset (1e-3 of its largest triangle's inradius): the
   // probe used to cross its far wall and report it as wrongly nested (meshes of thin sheets).
   EXPECT_TRUE(validate_mesh(combined({big, inverted(test::make_box({0.5, 0.5, 1}, {2.5, 2.5, 1 + 1e-6}))})).is_solid());
+  // Two slabs 1e-6 apart: the upper one's probe must not cross into the lower one either.
+  EXPECT_TRUE(validate_mesh(combined({test::make_box({0, 0, 0}, {1, 1, 0.1}), test::make_box({0, 0, 0.1 + 1e-6}, {1, 1, 0.2})}))
+                  .is_solid());
   // An island in the cavity is fine too.
   EXPECT_TRUE(validate_mesh(combined({big, inverted(small), test::make_box({1.2, 1.2, 1.2}, {1.8, 1.8, 1.8})})).is_solid());
   for (const TriMesh& bad : {combined({big, inverted(apart)}), combined({big, small}), combined({small, big}),
