@@ -48,6 +48,14 @@ void warn_unresolved(std::size_t unresolved) {
              unresolved);
 }
 
+void note_if_not_a_distance(const char* command, const std::string& input, const Model& m, bool quiet) {
+  if (quiet || m.info.lipschitz == 1) return;
+  fmt::print(stderr,
+             "frep {}: note: {} does not say it is a distance field (meshes and frep convert's files do); on "
+             "other fields the result is not at the distance given\n",
+             command, input);
+}
+
 void print_mesh_notes(const MeshStats& st) {
   if (st.zero_corners > 0)
     fmt::print("note: {} grid corners were exactly on the surface (faces on grid planes); meshed again on a grid "

@@ -29,6 +29,10 @@ inline double lipschitz_of(const Model& m, double option) { return option >= 0 ?
 // the mesh is still closed and manifold, but its triangles cross there.
 void warn_unresolved(std::size_t unresolved);
 
+// A note on stderr (unless quiet) when `m` does not say it is a distance field (FieldInfo
+// lipschitz 1): offsets and shells are at the given distance only on signed distances.
+void note_if_not_a_distance(const char* command, const std::string& input, const Model& m, bool quiet);
+
 // The mesher's notes on stdout (unless quiet): a grid shifted because corners were exactly on
 // the surface, or because vertices could not be untangled.
 void print_mesh_notes(const MeshStats& st);

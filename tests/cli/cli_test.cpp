@@ -338,9 +338,11 @@ TEST_F(Cli, FieldsThatAreNotDistancesKeepTheirShape) {
   EXPECT_EQ(r.code, 0) << r.err;
   r = run("offset " + test::shell_quote(path("slow.vm")) + " 0.5 -o " + test::shell_quote(path("grown.vm")));
   EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("does not say it is a distance field"), std::string::npos) << r.err;
   EXPECT_EQ(test::read_text(path("grown.vm")).find("frep: bounds"), std::string::npos) << test::read_text(path("grown.vm"));
   r = run("offset " + test::shell_quote(path("exact.vm")) + " 0.5 -o " + test::shell_quote(path("grown_exact.vm")));
   EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.find("does not say it is a distance field"), std::string::npos) << r.err;
   EXPECT_NE(test::read_text(path("grown_exact.vm")).find("frep: bounds"), std::string::npos);
   // Meshed, the slow offset is whole: its radius is 6 (0.1 (r - 1) = 0.5).
   r = run("offset " + test::shell_quote(path("slow.vm")) + " 0.5 -r 24 -o " + test::shell_quote(path("grown.stl")));
