@@ -38,6 +38,33 @@ Vec3 project(const Tape& t, const Vec3f& p) {
   return {p.x - k * g.dx, p.y - k * g.dy, p.z - k * g.dz};
 }
 
+// A point inside both bodies from the minimizer p of A + B. That sum is constant along the whole
+// deepest segment, so p may lie anywhere on it, even outside one body: moving along A's gradient
+// by (B - A) / 2 evens the two depths (exact for signed distances). Falls back on the middle of
+// the two surface points; `inside` says whether the point found is inside both.
+Vec3 deepest_point(const Tape& ta, const Tape& tb, const Vec3f& p, bool& inside) {
+  GradEvaluator ge;
+  PointEvaluator pe;
+  const auto in_both = [&](const Vec3& q) {
+    const float x = float(q.x), y = float(q.y), z = float(q.z);
+    return pe.eval(ta, x, y, z) < 0 && pe.eval(tb, x, y, z) < 0;
+  };
+  inside = true;
+  const Grad ga = ge.eval(ta, p.x, p.y, p.z);
+  const float vb = pe.eval(tb, p.x, p.y, p.z);
+  const double n = std::sqrt(double(ga.dx) * ga.dx + double(ga.dy) * ga.dy + double(ga.dz) * ga.dz);
+  if (n > 0 && std::isfinite(n) && std::isfinite(vb)) {
+    const double s = (double(vb) - ga.v) / 2 / n;
+    const Vec3 q{p.x + s * ga.dx, p.y + s * ga.dy, p.z + s * ga.dz};
+    if (in_both(q)) return q;
+  }
+  const Vec3 mid = (project(ta, p) + project(tb, p)) * 0.5;
+  if (in_both(mid)) return mid;
+  inside = in_both(Vec3(p));
+  return Vec3(p);
+}
+
+
 std::string fmt_point(const Vec3& p) { return fmt::format("{:.6g}, {:.6g}, {:.6g}", p.x, p.y, p.z); }
 
 }  // namespace
@@ -90,9 +117,14 @@ void register_clearance(CLI::App& app) {
       fmt::print("gap: {:.7g}\n", r.value);
       fmt::print("nearest points: {} on {}, {} on {}\n", fmt_point(project(ta, p)), a->a, fmt_point(project(tb, p)), a->b);
     } else {
-      fmt::print("interference: depth {:.7g}\n", -r.value);
-      fmt::print("deepest point: {} (inside both; {} on {}, {} on {})\n", fmt_point(Vec3(p)), fmt_point(project(ta, p)),
-                 a->a, fmt_point(project(tb, p)), a->b);
+      fmt::print("interference: depth {:.7g}{}\n", -r.value,
+                 -r.value <= a->tolerance ? " (within --tolerance: touching)" : "");
+      bool inside = false;
+      const Vec3 q = deepest_point(ta, tb, p, inside);
+      const Vec3f qf(q);
+      fmt::print("deepest point: {} ({}; {} on {}, {} on {})\n", fmt_point(q),
+                 inside ? "inside both" : "where A + B is smallest", fmt_point(project(ta, qf)), a->a,
+                 fmt_point(project(tb, qf)), a->b);
     }
     // The value is attained at the point printed; the interval bound proves nothing smaller was
     // missed by more than the difference. It closes in slowly, since S is constant along the

@@ -3,6 +3,8 @@
 // distance), the expressions written (equal to the library's), the clearance printed against
 // the exact gap, and the errors (exit 1 naming the file for bad input, 2 for a bad command line).
 #include <gtest/gtest.h>
+
+#include <array>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -159,11 +161,25 @@ TEST_F(UgfCommands, ClearancePrintsTheGapOrTheInterference) {
   float depth = 0;
   ASSERT_EQ(std::sscanf(r.out.c_str(), "interference: depth %f", &depth), 1) << r.out;
   EXPECT_NEAR(depth, 0.2f, 1e-5f);
+  // The deepest point is inside both, as printed (the minimizer of A + B may lie anywhere on the
+  // deepest segment, and was printed outside one body): here where both depths are 0.1.
+  const auto deep = [&](const CliRun& run_result) {
+    float x = NAN, y = NAN, z = NAN;
+    const std::size_t at = run_result.out.find("deepest point: ");
+    if (at != std::string::npos) std::sscanf(run_result.out.c_str() + at, "deepest point: %f, %f, %f", &x, &y, &z);
+    return std::array<float, 3>{x, y, z};
+  };
+  EXPECT_NE(r.out.find("(inside both;"), std::string::npos) << r.out;
+  std::array<float, 3> q = deep(r);
+  EXPECT_NEAR(q[0], 0.6f, 1e-4f) << r.out;  // ball: radius 0.6 at 0.1, so x in [-0.5, 0.7]; ball3 from 0.5
   // A mesh against an expression: the cube [-1, 1]^3 and ball2 moved to x = 1.2 is 1.2 - 0.3 - 1 away... overlapping by 0.1.
   r = run("clearance '" + cube_ + "' '" + ball2_ + "'");
   ASSERT_EQ(r.code, 0) << r.err;
   ASSERT_EQ(std::sscanf(r.out.c_str(), "interference: depth %f", &depth), 1) << r.out;
   EXPECT_NEAR(depth, 0.1f, 1e-4f);
+  EXPECT_NE(r.out.find("(inside both;"), std::string::npos) << r.out;
+  q = deep(r);
+  EXPECT_NEAR(q[0], 0.95f, 1e-3f) << r.out;  // the cube ends at 1, ball2 starts at 0.9
 }
 
 TEST_F(UgfCommands, ErrorsNameTheFileAndUseTheExitCodes) {
