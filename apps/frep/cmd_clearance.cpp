@@ -64,7 +64,6 @@ Vec3 deepest_point(const Tape& ta, const Tape& tb, const Vec3f& p, bool& inside)
   return Vec3(p);
 }
 
-
 std::string fmt_point(const Vec3& p) { return fmt::format("{:.6g}, {:.6g}, {:.6g}", p.x, p.y, p.z); }
 
 }  // namespace

@@ -100,13 +100,6 @@ void register_sample(CLI::App& app) {
     // Both kinds of points are held at once, with a copy: refuse what cannot fit before starting
     // (a sum that wraps would pass).
     const std::uint64_t total_points = a->points > UINT64_MAX - a->near ? UINT64_MAX : a->points + a->near;
-    if (!a->grid) {
-      try {
-        require_memory(total_points, 32, "sampling " + std::to_string(total_points) + " points", "sample fewer points");
-      } catch (const InputError& e) {
-        throw InputError(a->input, 0, e.detail());
-      }
-    }
     const std::size_t work = a->grid ? std::size_t(a->grid) * a->grid * a->grid : total_points;
     const bool show = !a->quiet && work >= (std::size_t(1) << 21);
     int last = -1;
@@ -121,6 +114,8 @@ void register_sample(CLI::App& app) {
     std::string what;
     Box3 used;  // the bounds sampled, printed so that another run can reuse them
     try {
+      if (!a->grid)
+        require_memory(total_points, 32, "sampling " + std::to_string(total_points) + " points", "sample fewer points");
       if (format_from_extension(a->input) != MeshFormat::Unknown) {
         MeshFieldOptions fo;
         fo.sign = a->sign == "winding" ? SignMethod::WindingNumber : SignMethod::Pseudonormal;

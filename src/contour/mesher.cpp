@@ -124,6 +124,9 @@ TriMesh Mesher::mesh(const Tape& tape) {
   const bool found = margin > 0;  // the region was found (or known), not given: closed at the grid's box
   std::uint64_t zeros = 0;
   int passes = 0;
+  // The cut max(f, box) has the box distance's Lipschitz constant 1 where it applies: a smaller
+  // L for f alone would settle boxes wrongly there (a region wholly inside came out empty).
+  const double lipschitz = o.lipschitz > 0 ? std::max(o.lipschitz, 1.0) : o.lipschitz;
   const auto run = [&](double shift) -> TriMesh {
     // Progress comes from the first pass only (a rerun on a shifted grid would go back to 0).
     const bool reporting = passes++ == 0;
@@ -144,9 +147,6 @@ TriMesh Mesher::mesh(const Tape& tape) {
       cut.hi[a] = std::min(round_f32(cut.hi[a]), grid.box.hi[a]);
     }
     const Tape closed = close_at_box(tape, cut);
-    // The cut max(f, box) has the box distance's Lipschitz constant 1 where it applies: a smaller
-    // L for f alone would settle boxes wrongly there (a region wholly inside came out empty).
-    const double lipschitz = o.lipschitz > 0 ? std::max(o.lipschitz, 1.0) : o.lipschitz;
 
     // Subdivision and leaves.
     auto t1 = Clock::now();
@@ -208,7 +208,7 @@ TriMesh Mesher::mesh(const Tape& tape) {
     sub.run(closed, grid.grid, visitor);
     if (cancelled()) throw MeshCancelled();
     if (reporting) report("cells", 1);
-    st.seconds_cells = seconds_since(t1);
+    st.seconds_cells += seconds_since(t1);  // over every pass
 
     // Assembly in leaf order.
     auto t2 = Clock::now();
@@ -217,7 +217,7 @@ TriMesh Mesher::mesh(const Tape& tape) {
       for (auto& r : per_worker) leaves.push_back(r.get());
     std::sort(leaves.begin(), leaves.end(), [](const LeafRecord* a, const LeafRecord* b) { return a->key < b->key; });
     TriMesh mesh = assemble(leaves, grid, leaf_size, sub.pool(), &st.unresolved);
-    st.seconds_assembly = seconds_since(t2);
+    st.seconds_assembly += seconds_since(t2);
     st.leaves = leaves.size();
     for (const LeafRecord* r : leaves) {
       st.surface_cells += r->cells.size();
@@ -241,11 +241,8 @@ TriMesh Mesher::mesh(const Tape& tape) {
     // crossings around them.
     st.zero_corners = zeros;
     st.shifted = true;
-    const double seconds_cells = st.seconds_cells, seconds_assembly = st.seconds_assembly;
     mesh = TriMesh{};  // not needed any more: free it for the second pass
     mesh = run(first_shift + 1.0 / 64 + (found ? 0.5 : 0.0));
-    st.seconds_cells += seconds_cells;
-    st.seconds_assembly += seconds_assembly;
   }
   if (st.unresolved > 0) {
     // Vertices the repairs could not untangle depend on where the surface meets the cells
@@ -254,29 +251,30 @@ TriMesh Mesher::mesh(const Tape& tape) {
     st.unresolved_first = st.unresolved;
     for (double shift : {0.37, 0.71}) {
       if (cancelled()) throw MeshCancelled();
-      MeshStats best = st;
-      const double seconds_cells = st.seconds_cells, seconds_assembly = st.seconds_assembly;
+      const MeshStats best = st;
+      // Back to the best mesh's figures, keeping the time of every pass.
+      const auto keep_best = [&] {
+        const double cells = st.seconds_cells, assembly = st.seconds_assembly;
+        st = best;
+        st.seconds_cells = cells, st.seconds_assembly = assembly;
+      };
       TriMesh other;
       try {
         other = run(shift);
       } catch (const MeshCancelled&) {
         throw;
       } catch (const InputError&) {  // the moved grid needs a cell more: beyond floats or the cell limit
-        st = best;
+        keep_best();
         break;
       } catch (const std::bad_alloc&) {  // no room for a second mesh: keep the first
-        st = best;
+        keep_best();
         break;
       }
-      st.seconds_cells += seconds_cells;
-      st.seconds_assembly += seconds_assembly;
-      st.shifted = true;
       if (st.unresolved < best.unresolved) {
+        st.shifted = true;
         mesh = std::move(other);
       } else {
-        const double c = st.seconds_cells, a = st.seconds_assembly;
-        st = best;
-        st.seconds_cells = c, st.seconds_assembly = a;
+        keep_best();
       }
       if (st.unresolved == 0) break;
     }

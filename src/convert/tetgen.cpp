@@ -74,8 +74,11 @@ void run_tetgen(const std::string& program, const std::vector<std::string>& args
   ::pthread_sigmask(SIG_BLOCK, &cleanup_signals, &before);
   const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
-  if (pid < 0) ::pthread_sigmask(SIG_SETMASK, &before, nullptr);
-  if (pid < 0) throw InputError(mesh_name, 0, std::string("cannot start TetGen: ") + std::strerror(errno));
+  if (pid < 0) {
+    const int err = errno;
+    ::pthread_sigmask(SIG_SETMASK, &before, nullptr);
+    throw InputError(mesh_name, 0, std::string("cannot start TetGen: ") + std::strerror(err));
+  }
   if (pid == 0) {
     // Child: own process group (a timeout or a signal then kills whatever it started too), own
     // directory and log; exit 127 if the program cannot be run.

@@ -1,11 +1,11 @@
 // NumPy .npy writer and reader for float32 arrays (format documented in numpy.lib.format).
 #include "frep/io/npy.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <cstring>
 #include <ostream>
-#include <algorithm>
 
 #include "frep/error.hpp"
 #include "frep/io/atomic_file.hpp"

@@ -410,23 +410,7 @@ std::vector<std::pair<std::uint32_t, Vec3>> Validation::nesting_probes() const {
     // of the shells whose boxes meet the segment's (within the budget).
     near.clear();
     if (bvh_) {
-      std::vector<std::uint32_t> stack{0};
-      while (!stack.empty()) {
-        const TriangleBvh::Node& n = bvh_->nodes()[stack.back()];
-        stack.pop_back();
-        if (n.lo[0] > seg.hi.x || n.hi[0] < seg.lo.x || n.lo[1] > seg.hi.y || n.hi[1] < seg.lo.y || n.lo[2] > seg.hi.z ||
-            n.hi[2] < seg.lo.z)
-          continue;
-        if (!n.leaf()) {
-          stack.push_back(n.index);
-          stack.push_back(n.index + 1);
-          continue;
-        }
-        for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
-          const std::uint32_t t = bvh_->order()[i];
-          near.push_back(bvh_triangles_.empty() ? t : bvh_triangles_[t]);
-        }
-      }
+      bvh_->for_each_meeting(seg, [&](std::uint32_t t) { near.push_back(bvh_triangles_.empty() ? t : bvh_triangles_[t]); });
     } else {
       std::vector<std::uint32_t> shells;
       shells_meeting(seg, shells);
@@ -442,9 +426,7 @@ std::vector<std::pair<std::uint32_t, Vec3>> Validation::nesting_probes() const {
       const Vec3 A = m_.corner(t, 0), B = m_.corner(t, 1), C = m_.corner(t, 2);
       Box3 tb;
       tb.add(A), tb.add(B), tb.add(C);
-      if (tb.lo.x > seg.hi.x || tb.hi.x < seg.lo.x || tb.lo.y > seg.hi.y || tb.hi.y < seg.lo.y ||
-          tb.lo.z > seg.hi.z || tb.hi.z < seg.lo.z)
-        continue;
+      if (!tb.meets(seg)) continue;
       const int s1 = exact::orient3d(A, B, C, g), s2 = exact::orient3d(A, B, C, p);
       if (s1 != 0 && s1 == s2) continue;
       const int e0 = exact::orient3d(g, p, A, B), e1 = exact::orient3d(g, p, B, C), e2 = exact::orient3d(g, p, C, A);
@@ -495,26 +477,9 @@ void Validation::shells_meeting(const Box3& b, std::vector<std::uint32_t>& out) 
     }
     shell_bvh_.emplace(box_mesh);
   }
-  if (shell_bvh_->empty()) return;
-  const auto meets = [&](const Box3& a) {
-    return a.lo.x <= b.hi.x && b.lo.x <= a.hi.x && a.lo.y <= b.hi.y && b.lo.y <= a.hi.y && a.lo.z <= b.hi.z &&
-           b.lo.z <= a.hi.z;
-  };
-  std::vector<std::uint32_t> stack{0};
-  while (!stack.empty()) {
-    const TriangleBvh::Node& n = shell_bvh_->nodes()[stack.back()];
-    stack.pop_back();
-    if (!meets(Box3{{n.lo[0], n.lo[1], n.lo[2]}, {n.hi[0], n.hi[1], n.hi[2]}})) continue;
-    if (!n.leaf()) {
-      stack.push_back(n.index);
-      stack.push_back(n.index + 1);
-      continue;
-    }
-    for (std::uint32_t i = n.index; i < n.index + n.count; ++i) {
-      const std::uint32_t j = shell_bvh_->order()[i];
-      if (meets(shells_[j].box)) out.push_back(j);
-    }
-  }
+  shell_bvh_->for_each_meeting(b, [&](std::uint32_t j) {
+    if (shells_[j].box.meets(b)) out.push_back(j);
+  });
 }
 
 std::vector<double> Validation::winding_numbers_at(const std::vector<std::pair<std::uint32_t, Vec3>>& probes) const {

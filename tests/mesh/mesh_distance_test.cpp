@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <fstream>
 #include <random>
+#include <utility>
 
 #include "frep/error.hpp"
 #include "frep/mesh/mesh_distance.hpp"
@@ -367,24 +368,20 @@ TEST(MeshCli, CheckAndSdf) {
   EXPECT_EQ(out, "-1\n1\n-0.5\n");
   out = run(std::string(FREP_CLI_PATH) + " check " + dir + "/does_not_exist.stl", st);
   EXPECT_EQ(st, 1);
-  { std::ofstream(pts) << "1 2 3\n4 five 6\n"; }
-  out = run(std::string(FREP_CLI_PATH) + " sdf " + good + " -p " + pts, st);
-  EXPECT_EQ(st, 1);
-  EXPECT_NE(out.find("frep_cli_pts.txt:2: bad number 'five'"), std::string::npos) << out;
-  // A distance to a non-finite point means nothing: an input error naming the line.
-  { std::ofstream(pts) << "1 2 3\n4 nan 6\n"; }
-  out = run(std::string(FREP_CLI_PATH) + " sdf " + good + " -p " + pts, st);
-  EXPECT_EQ(st, 1);
-  EXPECT_NE(out.find("frep_cli_pts.txt:2: coordinate 'nan' is not a number"), std::string::npos) << out;
-  // So does one whose squared distance would overflow (it printed nan), and a missing value.
-  { std::ofstream(pts) << "1 2 3\n1e155 0 0\n"; }
-  out = run(std::string(FREP_CLI_PATH) + " sdf " + good + " -p " + pts, st);
-  EXPECT_EQ(st, 1);
-  EXPECT_NE(out.find("frep_cli_pts.txt:2: coordinate '1e155' is out of range"), std::string::npos) << out;
-  { std::ofstream(pts) << "1,,2\n"; }
-  out = run(std::string(FREP_CLI_PATH) + " sdf " + good + " -p " + pts, st);
-  EXPECT_EQ(st, 1);
-  EXPECT_NE(out.find("frep_cli_pts.txt:1: a value is missing"), std::string::npos) << out;
+  // Bad points are input errors naming the line: a bad number; a non-finite point (a distance to
+  // it means nothing); one whose squared distance would overflow (it printed nan); a missing value.
+  const std::pair<const char*, const char*> bad_points[] = {
+      {"1 2 3\n4 five 6\n", "frep_cli_pts.txt:2: bad number 'five'"},
+      {"1 2 3\n4 nan 6\n", "frep_cli_pts.txt:2: coordinate 'nan' is not a number"},
+      {"1 2 3\n1e155 0 0\n", "frep_cli_pts.txt:2: coordinate '1e155' is out of range"},
+      {"1,,2\n", "frep_cli_pts.txt:1: a value is missing"},
+  };
+  for (const auto& [text, message] : bad_points) {
+    { std::ofstream(pts) << text; }
+    out = run(std::string(FREP_CLI_PATH) + " sdf " + good + " -p " + pts, st);
+    EXPECT_EQ(st, 1) << text;
+    EXPECT_NE(out.find(message), std::string::npos) << out;
+  }
   // Usage errors exit 2.
   run(std::string(FREP_CLI_PATH) + " sdf " + good + " -p " + pts + " --weld-tolerance nan", st);
   EXPECT_EQ(st, 2);

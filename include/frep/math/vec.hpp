@@ -64,6 +64,10 @@ struct Box3T {
   constexpr bool contains(Vec3T<T> p) const {
     return lo.x <= p.x && p.x <= hi.x && lo.y <= p.y && p.y <= hi.y && lo.z <= p.z && p.z <= hi.z;
   }
+  // True if the two closed boxes share a point.
+  constexpr bool meets(const Box3T& o) const {
+    return lo.x <= o.hi.x && o.lo.x <= hi.x && lo.y <= o.hi.y && o.lo.y <= hi.y && lo.z <= o.hi.z && o.lo.z <= hi.z;
+  }
   // The box grown by `d` on every side.
   constexpr Box3T inflated(T d) const { return {lo - Vec3T<T>{d, d, d}, hi + Vec3T<T>{d, d, d}}; }
 };

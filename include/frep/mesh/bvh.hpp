@@ -46,6 +46,11 @@ class TriangleBvh {
   template <class F>
   void for_each_overlapping_pair_parallel(int threads, F&& f) const;
 
+  // Calls f(t) for every triangle t whose box meets the closed box `box` (boxes are outward
+  // rounded: a superset of the triangles that meet it). Single-threaded.
+  template <class F>
+  void for_each_meeting(const Box3& box, F&& f) const;
+
  private:
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> order_;
@@ -103,6 +108,27 @@ void TriangleBvh::pairs_within(std::uint32_t n, F& f) const {
 template <class F>
 void TriangleBvh::for_each_overlapping_pair(F&& f) const {
   if (!nodes_.empty()) pairs_within(0, f);
+}
+
+template <class F>
+void TriangleBvh::for_each_meeting(const Box3& box, F&& f) const {
+  if (nodes_.empty()) return;
+  const auto meets = [&](const float* lo, const float* hi) {
+    return Box3{{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}.meets(box);
+  };
+  std::vector<std::uint32_t> stack{0};
+  while (!stack.empty()) {
+    const Node& n = nodes_[stack.back()];
+    stack.pop_back();
+    if (!meets(n.lo, n.hi)) continue;
+    if (!n.leaf()) {
+      stack.push_back(n.index);
+      stack.push_back(n.index + 1);
+      continue;
+    }
+    for (std::uint32_t i = n.index; i < n.index + n.count; ++i)
+      if (meets(&tri_box_[6 * i], &tri_box_[6 * i + 3])) f(order_[i]);
+  }
 }
 
 }  // namespace frep
