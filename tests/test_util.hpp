@@ -24,6 +24,7 @@
 #include "frep/eval/interval.hpp"
 #include "frep/eval/tape.hpp"
 #include "frep/expr/graph.hpp"
+#include "frep/expr/oracle.hpp"
 #include "frep/expr/opcode.hpp"
 #include "frep/expr/semantics.hpp"
 
@@ -132,8 +133,10 @@ inline std::vector<Op> ops_of_arity(int arity) {
 // Reference evaluation of an SSA list, in float (the reference semantics) or double (for finite
 // differences). Returns the value of every instruction.
 
+// Oracles (Op::Oracle) are evaluated by their values() at the point rounded to float.
 template <class T>
-void eval_ssa_all(std::span<const SsaInstr> ssa, T x, T y, T z, std::vector<T>& out) {
+void eval_ssa_all(std::span<const SsaInstr> ssa, T x, T y, T z, std::vector<T>& out,
+                  const OracleTable* oracles = nullptr) {
   out.resize(ssa.size());
   for (std::size_t i = 0; i < ssa.size(); ++i) {
     const SsaInstr& s = ssa[i];
@@ -142,15 +145,22 @@ void eval_ssa_all(std::span<const SsaInstr> ssa, T x, T y, T z, std::vector<T>& 
       case Op::VarY: out[i] = y; break;
       case Op::VarZ: out[i] = z; break;
       case Op::Const: out[i] = static_cast<T>(s.value); break;
+      case Op::Oracle: {
+        const float px = static_cast<float>(x), py = static_cast<float>(y), pz = static_cast<float>(z);
+        float v = 0;
+        (*oracles)[oracle_index(s.value)]->values(&px, &py, &pz, &v, 1);
+        out[i] = static_cast<T>(v);
+        break;
+      }
       default:
         out[i] = op_eval<T>(s.op, out[s.a], op_arity(s.op) == 2 ? out[s.b] : T(0));
     }
   }
 }
 template <class T>
-T eval_ssa(std::span<const SsaInstr> ssa, T x, T y, T z) {
+T eval_ssa(std::span<const SsaInstr> ssa, T x, T y, T z, const OracleTable* oracles = nullptr) {
   std::vector<T> v;
-  eval_ssa_all(ssa, x, y, z, v);
+  eval_ssa_all(ssa, x, y, z, v, oracles);
   return v.back();
 }
 

@@ -10,23 +10,11 @@
 #include "input.hpp"
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
+#include "frep/expr/copy.hpp"
 #include "frep/ugf/clearance.hpp"
 
 namespace frep::cli {
 namespace {
-
-// Copies the expression `root` of `from` into `to` (node by node, in order) and returns its id
-// there: find_clearance needs both fields in one graph.
-NodeId copy_into(Graph& to, const Graph& from, NodeId root) {
-  const std::vector<NodeId> order = reachable_nodes(from, root);
-  std::vector<NodeId> id(root + 1, kNoNode);
-  for (NodeId n : order) {
-    const Node& node = from.node(n);
-    id[n] = to.make(node.op, node.a == kNoNode ? kNoNode : id[node.a], node.b == kNoNode ? kNoNode : id[node.b],
-                    node.value);
-  }
-  return id[root];
-}
 
 // The point of F's surface nearest p, for a signed distance F: p - F(p) grad F / |grad F|.
 Vec3 project(const Tape& t, const Vec3f& p) {
@@ -98,7 +86,7 @@ void register_clearance(CLI::App& app) {
     check_field_output_options(a->region);
     Model ma = load_input(a->a);
     const Model mb = load_input(a->b);
-    const NodeId b_root = copy_into(*ma.graph, *mb.graph, mb.root);
+    const NodeId b_root = copy_expression(*ma.graph, *mb.graph, mb.root);
     const Tape ta = Tape::compile(*ma.graph, ma.root), tb = Tape::compile(*ma.graph, b_root);
     // The shortest segment between two disjoint bodies, and the deepest point of an overlap, lie
     // in the box around both.

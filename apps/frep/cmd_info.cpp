@@ -5,6 +5,7 @@
 #include "commands.hpp"
 #include "input.hpp"
 #include "frep/eval/tape.hpp"
+#include "frep/expr/oracle.hpp"
 #include "frep/io/load.hpp"
 
 namespace frep::cli {
@@ -16,7 +17,7 @@ void register_info(CLI::App& app) {
   cmd->callback([file] {
     const Model m = load_input(*file);
     const std::vector<NodeId> nodes = reachable_nodes(*m.graph, m.root);
-    std::array<std::size_t, kOpCount> counts{};
+    std::array<std::size_t, kEngineOpCount> counts{};
     for (NodeId id : nodes) ++counts[static_cast<int>(m.graph->node(id).op)];
     const Tape tape = Tape::compile(*m.graph, m.root);
     fmt::print("file: {}\n", *file);
@@ -37,8 +38,14 @@ void register_info(CLI::App& app) {
                  b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
     }
     fmt::print("opcodes:\n");
-    for (int op = 0; op < kOpCount; ++op)
+    for (int op = 0; op < kEngineOpCount; ++op)
       if (counts[op]) fmt::print("  {:<8} {}\n", op_name(static_cast<Op>(op)), counts[op]);
+    if (counts[static_cast<int>(Op::Oracle)]) {
+      // Leaves computed by code: what each stands for (its closed form is what files get).
+      fmt::print("oracles:\n");
+      for (NodeId id : nodes)
+        if (m.graph->node(id).op == Op::Oracle) fmt::print("  {}\n", m.graph->oracle_of(m.graph->node(id)).describe());
+    }
   });
 }
 

@@ -15,7 +15,7 @@
 #include "frep/io/npy.hpp"
 #include "frep/mesh/mesh_io.hpp"
 #include "frep/sample/grid.hpp"
-#include "frep/sample/mesh_field.hpp"
+#include "frep/mesh/mesh_field.hpp"
 #include "frep/sample/points.hpp"
 
 namespace frep::cli {

@@ -17,8 +17,7 @@ Model load_input(const std::string& path, bool quiet, ConvertStats* stats) {
   if (stats) *stats = s;
   print_read_warnings(path, s.read_warnings);
   if (s.triangles > 0 && !quiet)
-    fmt::print(stderr, "frep: converted {} ({} triangles) to an expression of {} nodes in {:.2f} s\n", path,
-               s.triangles, s.nodes, s.seconds);
+    fmt::print(stderr, "frep: read {} ({} triangles, checked and indexed in {:.2f} s)\n", path, s.triangles, s.seconds);
   return m;
 }
 

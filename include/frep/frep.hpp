@@ -4,6 +4,7 @@
 #include "frep/error.hpp"
 #include "frep/math/vec.hpp"
 #include "frep/math/morton.hpp"
+#include "frep/math/affine.hpp"
 #include "frep/util/large_allocator.hpp"
 #include "frep/util/memory_budget.hpp"
 #include "frep/util/thread_pool.hpp"
@@ -14,6 +15,9 @@
 #include "frep/expr/expr.hpp"
 #include "frep/expr/model.hpp"
 #include "frep/expr/derivative.hpp"
+#include "frep/expr/oracle.hpp"
+#include "frep/expr/remap.hpp"
+#include "frep/expr/copy.hpp"
 
 #include "frep/eval/interval.hpp"
 #include "frep/eval/grad.hpp"
@@ -39,6 +43,7 @@
 #include "frep/mesh/bvh.hpp"
 #include "frep/mesh/validate.hpp"
 #include "frep/mesh/mesh_distance.hpp"
+#include "frep/mesh/mesh_field.hpp"
 
 #include "frep/render/image.hpp"
 #include "frep/render/render2d.hpp"
@@ -48,9 +53,9 @@
 #include "frep/render/slice.hpp"
 
 #include "frep/convert/convert.hpp"
+#include "frep/convert/mesh_oracle.hpp"
 
 #include "frep/sample/grid.hpp"
-#include "frep/sample/mesh_field.hpp"
 #include "frep/sample/points.hpp"
 
 #include "frep/contour/bounds.hpp"

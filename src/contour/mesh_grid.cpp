@@ -76,7 +76,7 @@ Tape close_at_box(const Tape& tape, const Box3& box) {
     d = a == 0 ? m : push(Op::Max, d, m);
   }
   push(Op::Max, root, d);
-  return Tape::from_ssa(s);
+  return Tape::from_ssa(s, tape.oracles());
 }
 
 }  // namespace frep::contour

@@ -109,6 +109,20 @@ NodeId inside_measure(ExprBuilder& b, const TriMesh& m, const Features& f, const
 
 }  // namespace
 
+void check_convertible(const std::string& name, const ValidationReport& check) {
+  if (!check.is_solid()) throw InputError(name, 0, "cannot convert: " + check.summary() + " (frep check shows where)");
+  if (const Defect& z = check.defect(DefectKind::ZeroAreaTriangles); z.count > 0) {
+    std::string where;
+    if (!z.examples.empty()) {
+      const DefectLocation& l = z.examples.front();
+      where = " (the first is triangle " + std::to_string(l.triangle) + (l.line ? ", line " + std::to_string(l.line) : "") + ")";
+    }
+    throw InputError(name, 0, "cannot convert: " + std::to_string(z.count) +
+                                  " zero-area triangles (collinear corners) have no normal, so the sign of "
+                                  "the distance is undefined next to them" + where + "; remove them first");
+  }
+}
+
 ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   if (!(o.tetgen_timeout > 0)) throw InputError(mesh.name, 0, "the TetGen time limit must be positive");
@@ -116,19 +130,7 @@ ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
   ValidationOptions vo;
   vo.weld_tolerance = o.weld_tolerance;
   vo.threads = o.threads;
-  const ValidationReport check = validate_mesh(mesh, vo);
-  if (!check.is_solid())
-    throw InputError(mesh.name, 0, "cannot convert: " + check.summary() + " (frep check shows where)");
-  if (const Defect& z = check.defect(DefectKind::ZeroAreaTriangles); z.count > 0) {
-    std::string where;
-    if (!z.examples.empty()) {
-      const DefectLocation& l = z.examples.front();
-      where = " (the first is triangle " + std::to_string(l.triangle) + (l.line ? ", line " + std::to_string(l.line) : "") + ")";
-    }
-    throw InputError(mesh.name, 0, "cannot convert: " + std::to_string(z.count) +
-                                       " zero-area triangles (collinear corners) have no normal, so the sign of "
-                                       "the distance is undefined next to them" + where + "; remove them first");
-  }
+  check_convertible(mesh.name, validate_mesh(mesh, vo));
   report(o, "features", 0.3);
   const WeldResult w = weld(mesh, {o.weld_tolerance});
   const TriMesh& m = w.mesh;

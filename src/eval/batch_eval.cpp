@@ -15,6 +15,7 @@
 
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
+#include "frep/expr/oracle.hpp"
 #include "frep/expr/semantics.hpp"
 
 HWY_BEFORE_NAMESPACE();
@@ -64,7 +65,7 @@ HWY_NOINLINE void ScalarOp(const RegInstr& ins, const float* regs, float* o, std
 }
 
 void EvalChunk(const RegInstr* code, std::size_t ncode, float* regs, std::size_t stride, const float* x,
-               const float* y, const float* z, std::size_t m, std::size_t count) {
+               const float* y, const float* z, std::size_t m, std::size_t count, const OracleTable* oracles) {
   const D d;
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0f);
   for (std::size_t k = 0; k < ncode; ++k) {
@@ -82,6 +83,10 @@ void EvalChunk(const RegInstr* code, std::size_t ncode, float* regs, std::size_t
       }
       case Op::Const:
         for (std::size_t i = 0; i < count; ++i) o[i] = ins.imm;
+        break;
+      case Op::Oracle:
+        (*oracles)[oracle_index(ins.imm)]->values(x, y, z, o, m);
+        for (std::size_t i = m; i < count; ++i) o[i] = 0;
         break;
       case Op::Neg: Unary(a, o, count, [](V v) { return hn::Neg(v); }); break;
       case Op::Abs: Unary(a, o, count, [](V v) { return hn::Abs(v); }); break;
@@ -163,7 +168,7 @@ void BatchEvaluator::eval(const Tape& tape, const float* xs, const float* ys, co
   for (std::size_t base = 0; base < n; base += stride) {
     const std::size_t m = std::min(stride, n - base);
     const std::size_t count = (m + kLanesMax - 1) / kLanesMax * kLanesMax;
-    fn(code.data(), code.size(), regs_, stride, xs + base, ys + base, zs + base, m, count);
+    fn(code.data(), code.size(), regs_, stride, xs + base, ys + base, zs + base, m, count, tape.oracles().get());
     std::memcpy(out + base, root, m * sizeof(float));
   }
 }

@@ -15,6 +15,7 @@
 
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
+#include "frep/expr/oracle.hpp"
 #include "frep/expr/semantics.hpp"
 
 #ifndef FREP_GRAD_PARTIALS_ONCE
@@ -225,6 +226,17 @@ void GradEvaluator::eval(const Tape& tape, const float* xs, const float* ys, con
             o[kChunk + i] = o[2 * kChunk + i] = o[3 * kChunk + i] = 0;
           }
           break;
+        case Op::Oracle: {
+          Grad g[kChunk];
+          tape.oracle(ins.imm).gradients(xs + base, ys + base, zs + base, g, m);
+          for (std::size_t i = 0; i < m; ++i) {
+            o[i] = g[i].v;
+            o[kChunk + i] = g[i].dx;
+            o[2 * kChunk + i] = g[i].dy;
+            o[3 * kChunk + i] = g[i].dz;
+          }
+          break;
+        }
         default: {
           if (HWY_DYNAMIC_DISPATCH(GradOp)(ins, R, kChunk, (m + 15) / 16 * 16)) break;
           const bool ia = ins.mode & RegInstr::kImmA, ib = ins.mode & RegInstr::kImmB;

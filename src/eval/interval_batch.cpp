@@ -22,6 +22,7 @@
 #include "frep/error.hpp"
 #include "eval/tape_builder.hpp"
 #include "frep/eval/interval_batch.hpp"
+#include "frep/expr/oracle.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace frep {
@@ -56,7 +57,7 @@ HWY_INLINE void Lanes(F f) {
 // Returns the number of mins stored.
 std::size_t EvalBoxes(const RegInstr* code, std::size_t n, float* lo, float* hi, std::uint16_t* left,
                       std::uint16_t* right, std::uint16_t* fold, float* mins, LargeVector<float>& folds,
-                      std::uint32_t fold_lanes, const float* box) {
+                      std::uint32_t fold_lanes, const float* box, int count, const OracleTable* oracles) {
   const float* const mins_begin = mins;
   const D d;
   const V nan = hn::Set(d, std::numeric_limits<float>::quiet_NaN());
@@ -93,6 +94,20 @@ std::size_t EvalBoxes(const RegInstr* code, std::size_t n, float* lo, float* hi,
       case Op::Const:  // only as the whole code of a constant tape
         for (int j = 0; j < L; ++j) olo[j] = ohi[j] = ins.imm;
         break;
+      case Op::Oracle: {
+        Interval bx[L], by[L], bz[L], r[L];
+        for (int k = 0; k < count; ++k) {
+          bx[k] = {box[0 * L + k], box[1 * L + k]};
+          by[k] = {box[2 * L + k], box[3 * L + k]};
+          bz[k] = {box[4 * L + k], box[5 * L + k]};
+        }
+        (*oracles)[oracle_index(ins.imm)]->bounds(bx, by, bz, r, static_cast<std::size_t>(count));
+        for (int k = 0; k < L; ++k) {  // unused lanes repeat box 0
+          olo[k] = r[k < count ? k : 0].lo;
+          ohi[k] = r[k < count ? k : 0].hi;
+        }
+        break;
+      }
       case Op::Add:
         Lanes([&](D dd, int j) {
           const V al = hn::Load(dd, alo + j), ah = hn::Load(dd, ahi + j);
@@ -267,7 +282,8 @@ void IntervalBatchEvaluator::eval(const Tape& tape, const Interval* x, const Int
     box[5 * kLanes + k] = z[s].hi;
   }
   mins_count_ = HWY_DYNAMIC_DISPATCH(EvalBoxes)(tape.code().data(), n, lo, hi, left_.data(), right_.data(),
-                                               fold_.data(), mins_.data(), folds_, (1u << simplified) - 1, box);
+                                               fold_.data(), mins_.data(), folds_, (1u << simplified) - 1, box, count,
+                                               tape.oracles().get());
   const std::size_t root = static_cast<std::size_t>(tape.root_register()) * kLanes;
   std::copy(lo + root, lo + root + kLanes, result_lo_);
   std::copy(hi + root, hi + root + kLanes, result_hi_);
@@ -428,7 +444,11 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
     for (std::uint32_t bits = r; bits; bits &= bits - 1) builders[__builtin_ctz(bits)]->alias(i, ins.b);
     for (std::uint32_t bits = keep; bits; bits &= bits - 1) builders[__builtin_ctz(bits)]->keep(i, ins);
   }
-  for (std::uint32_t bits = lanes; bits; bits &= bits - 1) builders[__builtin_ctz(bits)]->finish(n - 1);
+  for (std::uint32_t bits = lanes; bits; bits &= bits - 1) {
+    const int k = __builtin_ctz(bits);
+    builders[k]->finish(n - 1);
+    outs[k].oracles_ = tape.oracles_;
+  }
   return lanes;
 }
 

@@ -1,6 +1,7 @@
 #include "eval/interval_ops.hpp"
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
+#include "frep/expr/oracle.hpp"
 
 namespace frep {
 
@@ -30,6 +31,7 @@ Interval IntervalEvaluator::eval(const Tape& tape, Interval x, Interval y, Inter
       case Op::VarY: v[i] = y; break;
       case Op::VarZ: v[i] = z; break;
       case Op::Const: v[i] = Interval::point(ins.value); break;
+      case Op::Oracle: tape.oracle(ins.value).bounds(&x, &y, &z, &v[i], 1); break;
       FREP_INTERVAL_CASE(Add)
       FREP_INTERVAL_CASE(Sub)
       FREP_INTERVAL_CASE(Mul)

@@ -219,6 +219,7 @@ inline Interval periodic(Interval a, double phase, float (*f)(float)) {
     case Op::VarY:
     case Op::VarZ:
     case Op::Const:
+    case Op::Oracle:
       break;
   }
   return Interval::unknown();

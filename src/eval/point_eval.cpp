@@ -2,6 +2,7 @@
 
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
+#include "frep/expr/oracle.hpp"
 #include "frep/expr/semantics.hpp"
 
 namespace frep {
@@ -17,6 +18,7 @@ float PointEvaluator::eval(const Tape& tape, float x, float y, float z) {
       case Op::VarY: r[ins.out] = y; break;
       case Op::VarZ: r[ins.out] = z; break;
       case Op::Const: r[ins.out] = ins.imm; break;
+      case Op::Oracle: tape.oracle(ins.imm).values(&x, &y, &z, &r[ins.out], 1); break;
       // The common ops get their own cases, so one switch decides everything for them.
 #define FREP_POINT_BINARY(OP, expr)                                          \
   case Op::OP: {                                                             \

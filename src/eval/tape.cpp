@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "frep/error.hpp"
+#include "frep/expr/oracle.hpp"
 #include "eval/caps.hpp"
 #include "eval/tape_builder.hpp"
 #include "frep/expr/semantics.hpp"
@@ -37,18 +38,22 @@ Tape Tape::compile(const Graph& g, NodeId root) {
   }
   Tape t;
   rebuild(ssa, nullptr, nullptr, t, true);
+  if (!g.oracles().empty()) t.oracles_ = std::make_shared<const OracleTable>(g.oracles());
   return t;
 }
 
-Tape Tape::from_ssa(const std::vector<SsaInstr>& ssa) {
+Tape Tape::from_ssa(const std::vector<SsaInstr>& ssa, std::shared_ptr<const OracleTable> oracles) {
   FREP_ASSERT(!ssa.empty(), "empty tape");
   for (std::size_t i = 0; i < ssa.size(); ++i) {
     const int ar = op_arity(ssa[i].op);
     FREP_ASSERT(ar < 1 || ssa[i].a < i, "argument after its use");
     FREP_ASSERT(ar < 2 || ssa[i].b < i, "argument after its use");
+    FREP_ASSERT(ssa[i].op != Op::Oracle || (oracles && oracle_index(ssa[i].value) < oracles->size()),
+                "oracle index out of range");
   }
   Tape t;
   rebuild(ssa, nullptr, nullptr, t, true);
+  t.oracles_ = std::move(oracles);
   return t;
 }
 
@@ -57,6 +62,7 @@ void Tape::simplify(const std::vector<Interval>& values, const std::vector<Choic
   FREP_ASSERT(&out != this, "simplify into itself");
   FREP_ASSERT(values.size() >= ssa_size_ && choices.size() >= ssa_size_, "interval results do not match the tape");
   rebuild(ssa(), values.data(), choices.data(), out, registers);
+  out.oracles_ = oracles_;
 }
 
 Tape Tape::simplified(const std::vector<Interval>& values, const std::vector<Choice>& choices) const {

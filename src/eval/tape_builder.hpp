@@ -67,8 +67,10 @@ class Tape::Builder {
       remap_[i * stride_] = ins.op == Op::Const ? m_ | kConstBit : m_;
       os_[m_] = ins;
       if (ins.op != Op::Const) {
-        vars_ |= static_cast<std::uint8_t>(1u << (static_cast<int>(ins.op) - static_cast<int>(Op::VarX)));
-        if (registers_) oc_[k_++] = {ins.op, 0, m_, 0, 0, 0.0f};
+        const bool oracle = ins.op == Op::Oracle;
+        vars_ |= oracle ? std::uint8_t{7}
+                        : static_cast<std::uint8_t>(1u << (static_cast<int>(ins.op) - static_cast<int>(Op::VarX)));
+        if (registers_) oc_[k_++] = {ins.op, 0, m_, 0, 0, oracle ? ins.value : 0.0f};
       }
       ++m_;
       return;

@@ -6,6 +6,7 @@
 #include "export/c_like.hpp"
 #include "export/export_util.hpp"
 #include "frep/error.hpp"
+#include "frep/expr/copy.hpp"
 
 namespace frep {
 namespace {
@@ -76,6 +77,10 @@ static inline float frep_square(float a) { return a * a; }
 }  // namespace
 
 void write_c(std::ostream& out, const Graph& g, NodeId root, const CExportOptions& opt) {
+  if (has_oracles(g, root)) {
+    const Model m = expand_oracles(g, root);
+    return write_c(out, *m.graph, m.root, opt);
+  }
   const std::string& name = opt.function_name;
   if (!export_detail::is_identifier(name) || name == "x" || name == "y" || name == "z" ||
       export_detail::is_reserved_name(name, export_detail::Language::C))

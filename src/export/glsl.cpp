@@ -11,6 +11,7 @@
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/eval/tape.hpp"
+#include "frep/expr/copy.hpp"
 
 namespace frep {
 namespace {
@@ -237,6 +238,10 @@ float auto_step_scale(const Graph& g, NodeId root, float radius, float* p99_out)
 }  // namespace
 
 void write_glsl(std::ostream& out, const Graph& g, NodeId root, const GlslOptions& opt) {
+  if (has_oracles(g, root)) {
+    const Model m = expand_oracles(g, root);
+    return write_glsl(out, *m.graph, m.root, opt);
+  }
   check_name(opt.function_name);
   const std::vector<NodeId> order = reachable_nodes(g, root);
   write_header(out, "GLSL", opt.source, order.size());
@@ -252,6 +257,10 @@ void write_glsl_helpers(std::ostream& out, bool nan_checks) {
 }
 
 void write_shadertoy(std::ostream& out, const Graph& g, NodeId root, const ShadertoyOptions& opt) {
+  if (has_oracles(g, root)) {
+    const Model m = expand_oracles(g, root);
+    return write_shadertoy(out, *m.graph, m.root, opt);
+  }
   check_name(opt.glsl.function_name);
   if (!(opt.radius > 0 && std::isfinite(opt.radius)))
     throw InputError("", 0, "the Shadertoy radius must be a finite number > 0");

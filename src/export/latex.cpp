@@ -18,6 +18,7 @@
 #include "export/export_util.hpp"
 #include "frep/error.hpp"
 #include "frep/expr/opcode.hpp"
+#include "frep/expr/copy.hpp"
 
 namespace frep {
 namespace {
@@ -624,6 +625,7 @@ class LatexWriter {
       case Op::VarX: return text_piece("x", 1, kAtom, false);
       case Op::VarY: return text_piece("y", 1, kAtom, false);
       case Op::VarZ: return text_piece("z", 1, kAtom, false);
+      case Op::Oracle: FREP_ASSERT(false, "oracles are expanded before writing"); break;
       case Op::Const: {
         Piece p;
         p.t = number(std::fabs(n.value));
@@ -814,6 +816,10 @@ class LatexWriter {
 }  // namespace
 
 void write_latex(std::ostream& out, const Graph& g, NodeId root, const LatexOptions& opt) {
+  if (has_oracles(g, root)) {
+    const Model m = expand_oracles(g, root);
+    return write_latex(out, *m.graph, m.root, opt);
+  }
   if (opt.digits < 0 || opt.digits > 9) throw InputError("", 0, "LaTeX constant digits must be 0 (exact) to 9");
   if (opt.line_width < 20 || opt.line_width > 10000) throw InputError("", 0, "LaTeX line width must be 20 to 10000");
   LatexWriter(out, g, root, opt).run();

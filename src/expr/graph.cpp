@@ -8,6 +8,7 @@
 
 #include "frep/error.hpp"
 #include "frep/expr/expr.hpp"
+#include "frep/expr/oracle.hpp"
 #include "frep/expr/semantics.hpp"
 
 namespace frep {
@@ -215,7 +216,16 @@ NodeId Graph::binary(Op op, NodeId a, NodeId b) {
   return intern({op, a, b, 0.0f});
 }
 
+NodeId Graph::oracle(std::shared_ptr<const Oracle> o) {
+  FREP_ASSERT(o != nullptr, "null oracle");
+  std::uint32_t index = 0;
+  while (index < oracles_.size() && oracles_[index] != o) ++index;  // a graph holds a few oracles
+  if (index == oracles_.size()) oracles_.push_back(std::move(o));
+  return intern({Op::Oracle, kNoNode, kNoNode, std::bit_cast<float>(index)});
+}
+
 NodeId Graph::make(Op op, NodeId a, NodeId b, float value) {
+  FREP_ASSERT(op != Op::Oracle, "oracle nodes are made by Graph::oracle");
   switch (op_arity(op)) {
     case 0:
       if (op == Op::Const) return constant(value);

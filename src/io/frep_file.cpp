@@ -9,6 +9,7 @@
 
 #include "frep/error.hpp"
 #include "frep/io/atomic_file.hpp"
+#include "frep/expr/copy.hpp"
 
 namespace frep {
 namespace {
@@ -73,6 +74,10 @@ T get(std::string_view b, std::size_t at) {
 bool is_frep_file(std::string_view bytes) { return bytes.substr(0, kFrepMagic.size()) == kFrepMagic; }
 
 std::string serialize_frep(const Graph& g, NodeId root, const FieldInfo& info) {
+  if (has_oracles(g, root)) {
+    const Model m = expand_oracles(g, root);
+    return serialize_frep(*m.graph, m.root, info);
+  }
   const std::vector<NodeId> order = reachable_nodes(g, root);
   std::vector<std::uint64_t> index(static_cast<std::size_t>(root) + 1, 0);
   for (std::size_t i = 0; i < order.size(); ++i) index[order[i]] = i;

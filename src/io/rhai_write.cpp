@@ -22,6 +22,7 @@
 #include "frep/io/atomic_file.hpp"
 #include "frep/io/rhai.hpp"
 #include "io/field_info.hpp"
+#include "frep/expr/copy.hpp"
 
 namespace frep {
 namespace {
@@ -220,7 +221,13 @@ class Writer {
 
 }  // namespace
 
-void write_rhai(std::ostream& out, const Graph& g, NodeId root, const FieldInfo& info) { Writer(g, root).write(out, info); }
+void write_rhai(std::ostream& out, const Graph& g, NodeId root, const FieldInfo& info) {
+  if (has_oracles(g, root)) {
+    const Model m = expand_oracles(g, root);
+    return write_rhai(out, *m.graph, m.root, info);
+  }
+  Writer(g, root).write(out, info);
+}
 
 void save_rhai(const std::string& path, const Graph& g, NodeId root, const FieldInfo& info) {
   write_file_atomically(path, [&](std::ostream& out) { write_rhai(out, g, root, info); });

@@ -12,6 +12,7 @@
 #include "io/parse_number.hpp"
 #include "io/field_info.hpp"
 #include "io/text_scan.hpp"
+#include "frep/expr/copy.hpp"
 
 namespace frep {
 namespace {
@@ -195,6 +196,10 @@ Model parse_vm(std::string_view text, const std::string& name) {
 Model read_vm(const std::string& path) { return parse_vm(read_file(path), path); }
 
 void write_vm(std::ostream& out, const Graph& g, NodeId root, const FieldInfo& info) {
+  if (has_oracles(g, root)) {
+    const Model m = expand_oracles(g, root);
+    return write_vm(out, *m.graph, m.root, info);
+  }
   const std::vector<NodeId> order = reachable_nodes(g, root);
   out << detail::field_info_comments(info, "#");
   char buf[64];

@@ -349,6 +349,11 @@ double MeshDistance::winding_number_exact(const Vec3& p) const {
 }
 
 int MeshDistance::pseudonormal_sign(const Vec3& p, const ClosestPoint& c) const {
+  const double s = dot(p - c.point, pseudonormal(c));
+  return s > 0 ? 1 : (s < 0 ? -1 : 0);
+}
+
+Vec3 MeshDistance::pseudonormal(const ClosestPoint& c) const {
   const Triangle& t = d_->welded[c.triangle];
   auto edge_normal = [&](int k) {
     const std::uint32_t e = d_->tri_edges[c.triangle][k];
@@ -364,8 +369,7 @@ int MeshDistance::pseudonormal_sign(const Vec3& p, const ClosestPoint& c) const 
     case Feature::Vertex1: n = d_->vertex_normal[t[1]]; break;
     case Feature::Vertex2: n = d_->vertex_normal[t[2]]; break;
   }
-  const double s = dot(p - c.point, n);
-  return s > 0 ? 1 : (s < 0 ? -1 : 0);
+  return n;
 }
 
 double MeshDistance::signed_distance(const Vec3& p, SignMethod method) const {

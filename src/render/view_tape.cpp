@@ -2,6 +2,8 @@
 // instructions with their variables replaced, then (for rotated views) the cut at the bounds.
 #include "view_tape.hpp"
 
+#include "frep/expr/oracle.hpp"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -43,9 +45,24 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
     model_var[axis] = c == 0 ? rel[axis] : emit(Op::Add, rel[axis], emit(Op::Const, 0, 0, c));
   }
 
-  // A model instruction without arguments: its constant, or the model variable.
+  // The model's oracles, evaluated at the model point of (u, v, w): center + u right + v up +
+  // w toward, in double (Oracle::transformed), same indices.
+  std::shared_ptr<OracleTable> oracles;
+  if (model.oracles()) {
+    Affine3 view;
+    for (int i = 0; i < 3; ++i) {
+      view.m[i][0] = cam.right[i];
+      view.m[i][1] = cam.up[i];
+      view.m[i][2] = cam.toward[i];
+      view.m[i][3] = cam.center[i];
+    }
+    oracles = std::make_shared<OracleTable>();
+    for (const auto& o : *model.oracles()) oracles->push_back(o->transformed(view));
+  }
+  // A model instruction without arguments: its constant, its oracle, or the model variable.
   const auto leaf = [&](const SsaInstr& s) {
-    return s.op == Op::Const ? emit(Op::Const, 0, 0, s.value) : model_var[static_cast<int>(s.op) - static_cast<int>(Op::VarX)];
+    if (s.op == Op::Const || s.op == Op::Oracle) return emit(s.op, 0, 0, s.value);
+    return model_var[static_cast<int>(s.op) - static_cast<int>(Op::VarX)];
   };
   const auto src = model.ssa();
   std::vector<std::uint32_t> map(src.size());
@@ -311,7 +328,7 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
     root = emit(Op::Max, root, box);
   }
   if (root != ssa.size() - 1) emit(Op::Add, root, emit(Op::Const, 0, 0, 0.0f));  // root last (only for a bare variable)
-  return Tape::from_ssa(ssa);
+  return Tape::from_ssa(ssa, std::move(oracles));
 }
 
 }  // namespace frep

@@ -5,7 +5,7 @@
 #include <functional>
 
 #include "frep/sample/grid.hpp"
-#include "frep/sample/mesh_field.hpp"
+#include "frep/mesh/mesh_field.hpp"
 
 namespace frep {
 class ThreadPool;

@@ -14,7 +14,7 @@
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/eval/subdivision.hpp"
-#include "frep/sample/mesh_field.hpp"
+#include "frep/mesh/mesh_field.hpp"
 #include "frep/util/memory_budget.hpp"
 #include "frep/util/thread_pool.hpp"
 #include "sample/cpt.hpp"

@@ -8,7 +8,7 @@
 
 #include "frep/error.hpp"
 #include "frep/eval/point_cloud.hpp"
-#include "frep/sample/mesh_field.hpp"
+#include "frep/mesh/mesh_field.hpp"
 #include "frep/util/memory_budget.hpp"
 #include "frep/util/thread_pool.hpp"
 

@@ -11,9 +11,11 @@
 #include <memory>
 #include <string>
 
+#include "frep/convert/mesh_oracle.hpp"
 #include "frep/eval/interval_batch.hpp"
 #include "frep/eval/point_cloud.hpp"
 #include "frep/expr/expr.hpp"
+#include "mesh_test_util.hpp"
 #include "test_util.hpp"
 
 namespace frep {
@@ -455,6 +457,48 @@ TEST_P(Conformance, ReusingOneEvaluatorAcrossTapesOfDifferentSizes) {
       for (std::size_t i = 0; i < xs.size(); ++i) expected.push_back(test::eval_ssa<float>(t.ssa(), xs[i], ys[i], zs[i]));
       check(t, xs, ys, zs, expected, "tape " + std::to_string(r));
     }
+  }
+}
+
+// Expressions holding oracles (a mesh's signed distance, and the same mesh moved) mixed with other
+// ops: every evaluator calls out to the oracle, and agrees with the reference evaluation that
+// takes the oracle's own values (the interval evaluators on point boxes contain them).
+TEST_P(Conformance, ExpressionsWithOracles) {
+  Graph g;
+  const auto mesh = std::make_shared<const MeshOracle>(test::make_sphere(2));
+  Affine3 turn;  // 30 degrees about z, scaled by 1.5, moved
+  const double c = std::cos(0.5236), s = std::sin(0.5236);
+  turn.m[0][0] = 1.5 * c, turn.m[0][1] = -1.5 * s, turn.m[0][3] = 0.25;
+  turn.m[1][0] = 1.5 * s, turn.m[1][1] = 1.5 * c, turn.m[1][3] = -0.5;
+  turn.m[2][2] = 1.5;
+  const Expr m(g, g.oracle(mesh)), moved(g, g.oracle(mesh->transformed(turn)));
+  auto x = g.x(), y = g.y(), z = g.z();
+  const std::vector<std::pair<std::string, NodeId>> roots = {
+      {"mesh", m.id()},
+      {"mesh - 0.25", (m - 0.25f).id()},
+      {"mesh minus a sphere", max(m, -(sqrt(x * x + y * y + z * z) - 0.5f)).id()},
+      {"union with the moved mesh", min(m, moved).id()},
+      {"mesh squared plus sin x", (m * m + sin(x)).id()},
+      {"shell of the moved mesh", (abs(moved) - 0.1f).id()}};
+  std::mt19937_64 rng(9);
+  std::vector<float> xs, ys, zs;
+  std::uniform_real_distribution<float> u(-2, 2);
+  for (int i = 0; i < 400; ++i) xs.push_back(u(rng)), ys.push_back(u(rng)), zs.push_back(u(rng));
+  // Near the surface: the sphere's vertices moved in and out a little, and exactly on them.
+  const TriMesh sphere = test::make_sphere(2);
+  for (std::size_t i = 0; i < sphere.vertices.size(); i += 3)
+    for (double k : {1.0, 1.001, 0.999}) {
+      xs.push_back(static_cast<float>(k * sphere.vertices[i].x));
+      ys.push_back(static_cast<float>(k * sphere.vertices[i].y));
+      zs.push_back(static_cast<float>(k * sphere.vertices[i].z));
+    }
+  for (float v : test::special_floats()) xs.push_back(v), ys.push_back(0.5f), zs.push_back(-0.25f);
+  for (const auto& [name, root] : roots) {
+    const Tape t = Tape::compile(g, root);
+    std::vector<float> expected;
+    for (std::size_t i = 0; i < xs.size(); ++i)
+      expected.push_back(test::eval_ssa<float>(t.ssa(), xs[i], ys[i], zs[i], t.oracles().get()));
+    check(t, xs, ys, zs, expected, name);
   }
 }
 

@@ -27,6 +27,7 @@
 
 #include "frep/expr/model.hpp"
 #include "frep/mesh/mesh.hpp"
+#include "frep/mesh/validate.hpp"
 
 namespace frep {
 
@@ -64,6 +65,11 @@ struct ConvertResult {
   ConvertStats stats;
 };
 
+// Throws the InputError convert_mesh gives a mesh it refuses, from the mesh's check (`name`
+// names the file): not a usable solid, or zero-area triangles (no normal, so no sign next to
+// them).
+void check_convertible(const std::string& name, const ValidationReport& check);
+
 // Converts a mesh as read from a file. The mesh is welded and checked like `frep check` does
 // first: a mesh that is not a usable solid (open, non-manifold, inconsistently or inward
 // oriented, self-intersecting...) is refused with InputError carrying the check's summary.
@@ -71,8 +77,11 @@ struct ConvertResult {
 ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& options = {});
 
 // What every command that takes an expression accepts: an expression file (.vm, .rhai, .frep),
-// or a mesh file (.stl, .obj, .ply, .off, told apart by extension), read and converted with
-// `options`. `stats`, when given, receives the conversion's figures (untouched for expressions).
+// or a mesh file (.stl, .obj, .ply, .off, told apart by extension), read, checked as
+// convert_mesh checks it (refused as it refuses) and loaded as a mesh oracle
+// (frep/convert/mesh_oracle.hpp): a one-node expression whose closed form is convert_mesh's with
+// `options`. `stats`, when given, receives the mesh's figures (triangles, vertices, box, read
+// warnings, seconds to read and index; nodes = 1), untouched for expressions.
 Model load_field(const std::string& path, const ConvertOptions& options = {}, ConvertStats* stats = nullptr);
 
 }  // namespace frep

@@ -72,24 +72,6 @@ struct SubdivisionOptions {
                                            // value, f(c) +- L * half-diagonal (see lipschitz_bound)
 };
 
-// The interval of a box, narrowed by a Lipschitz bound: every value of f in a box with centre c
-// and half-diagonal r lies within f(c) +- L r. `centre` is the interval evaluation of the
-// centre (a box of one point), so it contains the computed f(c); the radius is grown by 2^-16 of
-// itself and of the magnitudes involved, which covers the float rounding of a field that is
-// L-Lipschitz in exact arithmetic (converted meshes are exact to about 2^-22 of their size).
-// Unknown (NaN) intervals stay as they are.
-inline Interval lipschitz_bound(Interval box, Interval centre, double lipschitz, double half_diagonal, double coord_scale) {
-  if (box.is_unknown() || centre.is_unknown() || !(lipschitz > 0)) return box;
-  const double mag = std::max(std::fabs(static_cast<double>(centre.lo)), std::fabs(static_cast<double>(centre.hi)));
-  const double r = lipschitz * half_diagonal * (1 + 0x1p-16) + 0x1p-16 * (mag + coord_scale);
-  // Rounded outward to float, so that the narrowed interval still contains every value.
-  float lo = static_cast<float>(centre.lo - r), hi = static_cast<float>(centre.hi + r);
-  if (static_cast<double>(lo) > centre.lo - r) lo = std::nextafter(lo, -INFINITY);
-  if (static_cast<double>(hi) < centre.hi + r) hi = std::nextafter(hi, INFINITY);
-  const Interval out{std::max(box.lo, lo), std::min(box.hi, hi)};
-  return out.is_unknown() ? box : out;  // disjoint only if f is not L-Lipschitz: keep what intervals proved
-}
-
 // Reusable: keeps the pool, per-worker evaluators and tape storage between runs.
 //
 // The visitor provides
@@ -192,17 +174,12 @@ void Subdivider::settle(Worker& w, const Tape& t, const SampleGrid& grid, bool l
   double radius[kLanes], scale[kLanes];  // half-diagonal, largest coordinate magnitude
   if (centres)
     for (int k = 0; k < count; ++k) {
-      Interval* axes[3] = {xi, yi, zi};
-      radius[k] = scale[k] = 0;
-      for (Interval* r : axes) {
-        // Measured from the rounded centre, so that its rounding is covered too.
-        const float c = 0.5f * r[k].lo + 0.5f * r[k].hi;
-        r[count + k] = Interval::point(c);
-        const double e = std::max(static_cast<double>(c) - r[k].lo, static_cast<double>(r[k].hi) - c);
-        radius[k] += e * e;
-        scale[k] = std::max({scale[k], std::fabs(static_cast<double>(r[k].lo)), std::fabs(static_cast<double>(r[k].hi))});
-      }
-      radius[k] = std::sqrt(radius[k]);
+      const BoxCentre b = box_centre(xi[k], yi[k], zi[k]);
+      xi[count + k] = Interval::point(b.c[0]);
+      yi[count + k] = Interval::point(b.c[1]);
+      zi[count + k] = Interval::point(b.c[2]);
+      radius[k] = b.half_diagonal;
+      scale[k] = b.scale;
     }
   w.boxes.eval(t, xi, yi, zi, centres ? 2 * count : count, count);
   std::uint32_t open = 0;

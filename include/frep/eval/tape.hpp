@@ -4,6 +4,7 @@
 
 #include <bit>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -18,14 +19,16 @@ struct SsaInstr {
   Op op;
   std::uint32_t a = 0;
   std::uint32_t b = 0;
-  float value = 0;  // Op::Const: the value; min/max/and/or in a tape: the bits of choice_ordinal
+  float value = 0;  // Op::Const: the value; min/max/and/or in a tape: the bits of choice_ordinal;
+                    // Op::Oracle: the bits of its index in the tape's oracles (oracle_index)
 };
 
 // A min/max/and/or instruction's ordinal among its tape's choices (0 first, in tape order), so
 // that evaluators can keep per-choice data in arrays of Tape::choice_count() entries.
 inline std::uint32_t choice_ordinal(const SsaInstr& s) { return std::bit_cast<std::uint32_t>(s.value); }
 
-// Register instruction. A constant argument is an immediate (`imm`), flagged in `mode`.
+// Register instruction. A constant argument is an immediate (`imm`), flagged in `mode`; an
+// Op::Oracle instruction keeps its oracle's index in `imm` (oracle_index).
 struct RegInstr {
   Op op;
   std::uint8_t mode = 0;  // kImmA / kImmB bits
@@ -44,10 +47,12 @@ class Tape {
  public:
   Tape() = default;
 
-  // Compiles the part of `g` reachable from `root`. Iterative; linear in the node count.
+  // Compiles the part of `g` reachable from `root`. Iterative; linear in the node count. The
+  // tape shares g's oracles (it holds them; the graph may go).
   static Tape compile(const Graph& g, NodeId root);
   // Builds a tape from SSA instructions (root last); folds constants and allocates registers.
-  static Tape from_ssa(const std::vector<SsaInstr>& ssa);
+  // Op::Oracle instructions index `oracles`.
+  static Tape from_ssa(const std::vector<SsaInstr>& ssa, std::shared_ptr<const OracleTable> oracles = nullptr);
 
   std::span<const SsaInstr> ssa() const { return {ssa_.data(), ssa_size_}; }
   // Register code; empty if the tape was simplified without registers.
@@ -59,8 +64,12 @@ class Tape {
   std::size_t capacity() const { return ssa_.size(); }
   // Number of min/max/and/or instructions: zero means simplifying cannot shrink it further.
   std::uint32_t choice_count() const { return choices_; }
-  // Bit 0/1/2: x/y/z appear in the tape.
+  // Bit 0/1/2: x/y/z appear in the tape (an oracle counts as all three).
   std::uint8_t vars_used() const { return vars_; }
+  // The oracles its Op::Oracle instructions index (null if it has none); simplified tapes share
+  // their parent's.
+  const std::shared_ptr<const OracleTable>& oracles() const { return oracles_; }
+  const Oracle& oracle(float index_bits) const { return *(*oracles_)[oracle_index(index_bits)]; }
 
   // Rebuilds the tape keeping only what matters inside a region, given the per-instruction
   // intervals and choices of an interval evaluation over that region: one-sided choices become
@@ -91,6 +100,7 @@ class Tape {
   std::uint32_t root_reg_ = 0;
   std::uint32_t choices_ = 0;
   std::uint8_t vars_ = 0;
+  std::shared_ptr<const OracleTable> oracles_;
   LargeVector<std::uint32_t> remap_;  // scratch for simplification into this tape
   std::vector<std::uint8_t> state_;   // scratch for simplification into this tape
   std::vector<float> caps_;           // scratch for simplification into this tape

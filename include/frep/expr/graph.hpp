@@ -2,8 +2,10 @@
 // yields the same node), with constant folding and exact algebraic identities at construction.
 #pragma once
 
+#include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "frep/expr/opcode.hpp"
@@ -19,11 +21,18 @@ struct Node {
   Op op;
   NodeId a;
   NodeId b;
-  float value;  // only for Op::Const
+  float value;  // Op::Const: the value; Op::Oracle: the bits of its index in Graph::oracles()
 };
 static_assert(sizeof(Node) == 16, "docs/engine.md states 16 bytes per node");
 
 class Expr;
+class Oracle;
+
+// The oracles of a graph or a tape, by index.
+using OracleTable = std::vector<std::shared_ptr<const Oracle>>;
+
+// The index of an Op::Oracle node or instruction in its oracle table.
+inline std::uint32_t oracle_index(float value) { return std::bit_cast<std::uint32_t>(value); }
 
 
 // Owns every node. Node ids are indices, and a node's arguments always have smaller ids, so the
@@ -46,8 +55,14 @@ class Graph {
   // Builds op(a) or op(a, b), folding constants and applying exact identities.
   NodeId unary(Op op, NodeId a);
   NodeId binary(Op op, NodeId a, NodeId b);
-  // Any op by arity (leaves other than Const take no arguments).
+  // Any op by arity (leaves other than Const take no arguments; oracles are made by oracle()).
   NodeId make(Op op, NodeId a = kNoNode, NodeId b = kNoNode, float value = 0.0f);
+  // A leaf whose value is computed by `o` (frep/expr/oracle.hpp). The same oracle object twice
+  // gives the same node.
+  NodeId oracle(std::shared_ptr<const Oracle> o);
+  // The oracles of Op::Oracle nodes, by index (Node::value).
+  const OracleTable& oracles() const { return oracles_; }
+  const Oracle& oracle_of(const Node& n) const { return *oracles_[oracle_index(n.value)]; }
 
   // Makes room for `nodes` nodes in all, so that building that many reallocates nothing.
   void reserve(std::size_t nodes);
@@ -75,6 +90,7 @@ class Graph {
   void place_spread(std::uint64_t hash, std::uint64_t entry);
 
   std::vector<Node, LargeAllocator<Node>> nodes_;
+  OracleTable oracles_;
   // Slots hold the hash's upper half << 32 | id; all ones is empty. A node with arguments lives
   // within a few slots of slot (its newest argument's id) in `near_`, unless that window is
   // full: graphs are built bottom up, so that memory is usually in cache, where a hashed slot

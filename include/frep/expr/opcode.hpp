@@ -42,11 +42,18 @@ namespace frep {
   X(And, 30, "and", 2)           \
   X(Or, 31, "or", 2)
 
+// Opcodes of the engine only, never written to a file another tool reads: a leaf whose value
+// is computed by code (an oracle, expr/oracle.hpp), such as a mesh's exact signed distance.
+#define FREP_ENGINE_OPCODES(X) X(Oracle, 32, "oracle", 0)
+
+// Fidget's opcodes: the ones files hold (ids 0 .. kOpCount - 1).
 inline constexpr int kOpCount = 32;
+// Every opcode, the engine's own included.
+inline constexpr int kEngineOpCount = 33;
 
 enum class Op : std::uint8_t {
 #define FREP_X(name, id, text, arity) name = id,
-  FREP_OPCODES(FREP_X)
+  FREP_OPCODES(FREP_X) FREP_ENGINE_OPCODES(FREP_X)
 #undef FREP_X
 };
 
@@ -57,15 +64,16 @@ constexpr std::string_view op_name(Op op) {
   case Op::name:                      \
     return text;
     FREP_OPCODES(FREP_X)
+    FREP_ENGINE_OPCODES(FREP_X)
 #undef FREP_X
   }
   return "?";
 }
 
 namespace detail {
-inline constexpr std::uint8_t kArity[kOpCount] = {
+inline constexpr std::uint8_t kArity[kEngineOpCount] = {
 #define FREP_X(name, id, text, arity) arity,
-    FREP_OPCODES(FREP_X)
+    FREP_OPCODES(FREP_X) FREP_ENGINE_OPCODES(FREP_X)
 #undef FREP_X
 };
 }  // namespace detail
@@ -73,7 +81,8 @@ inline constexpr std::uint8_t kArity[kOpCount] = {
 // A table lookup: this sits on the hot path of tape simplification.
 constexpr int op_arity(Op op) { return detail::kArity[static_cast<std::uint8_t>(op)]; }
 
-// Parses an opcode's text name; nullopt if unknown. Compares lengths first: it runs once per
+// Parses the text name of one of Fidget's opcodes (the engine's own have none in files);
+// nullopt if unknown. Compares lengths first: it runs once per
 // line of every expression file.
 constexpr std::optional<Op> op_from_name(std::string_view s) {
 #define FREP_X(name, id, text, arity) \
@@ -90,5 +99,8 @@ constexpr bool op_is_choice(Op op) {
 }
 
 constexpr bool op_is_var(Op op) { return op == Op::VarX || op == Op::VarY || op == Op::VarZ; }
+
+// Leaves other than constants: their values depend on the point.
+constexpr bool op_is_input(Op op) { return op_is_var(op) || op == Op::Oracle; }
 
 }  // namespace frep

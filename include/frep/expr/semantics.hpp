@@ -66,7 +66,8 @@ inline T op_eval(Op op, T a, T b) {
     case Op::VarX:
     case Op::VarY:
     case Op::VarZ:
-    case Op::Const: break;
+    case Op::Const:
+    case Op::Oracle: break;
   }
   return std::numeric_limits<T>::quiet_NaN();
 }

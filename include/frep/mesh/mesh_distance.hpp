@@ -67,6 +67,9 @@ class MeshDistance {
   double winding_number_exact(const Vec3& p) const;
   // +1 outside, -1 inside, 0 on the surface, from the pseudonormal of the closest feature.
   int pseudonormal_sign(const Vec3& p, const ClosestPoint& c) const;
+  // The angle-weighted pseudonormal of the closest feature (not normalized; zero for a
+  // degenerate one).
+  Vec3 pseudonormal(const ClosestPoint& c) const;
   double signed_distance(const Vec3& p, SignMethod method = SignMethod::WindingNumber) const;
 
   // Batch versions over `threads` threads (0: all cores); results do not depend on the count.

@@ -1,6 +1,7 @@
-// A mesh prepared for sampling its signed distance: welded, checked like `frep check`, with the
-// exact distance oracle (MeshDistance) and the sign method that is exact for it. Shared by grid
-// and point sampling, so a mesh is read, checked and indexed once.
+// A mesh prepared for measuring its signed distance: welded, checked like `frep check`, with the
+// exact distance structure (MeshDistance) and the sign method that is exact for it. Shared by
+// grid and point sampling and by mesh leaves of expressions (frep/convert/mesh_oracle.hpp), so a
+// mesh is read, checked and indexed once.
 #pragma once
 
 #include <memory>
@@ -9,6 +10,7 @@
 #include "frep/math/vec.hpp"
 #include "frep/mesh/mesh.hpp"
 #include "frep/mesh/mesh_distance.hpp"
+#include "frep/mesh/validate.hpp"
 
 namespace frep {
 
@@ -38,7 +40,9 @@ class MeshField {
   // The sign method in use: the requested one for solids, WindingNumber otherwise.
   SignMethod sign() const { return sign_; }
   // The check's one-line summary ("valid solid: ..." or "not a solid: ...").
-  const std::string& summary() const { return summary_; }
+  std::string summary() const { return report_.summary(); }
+  // The whole check.
+  const ValidationReport& report() const { return report_; }
 
   const TriMesh& welded() const { return *welded_; }
   const MeshTopology& topology() const { return *topology_; }
@@ -56,7 +60,7 @@ class MeshField {
   std::unique_ptr<MeshDistance> distance_;
   bool solid_ = false;
   SignMethod sign_ = SignMethod::WindingNumber;
-  std::string summary_;
+  ValidationReport report_;
   Box3 box_;
   double area_ = 0;
 };

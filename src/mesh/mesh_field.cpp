@@ -1,5 +1,5 @@
-// A mesh prepared for sampling: weld, check, topology, distance oracle, and the sign method.
-#include "frep/sample/mesh_field.hpp"
+// A mesh prepared for distance queries: weld, check, topology, distance oracle, and the sign method.
+#include "frep/mesh/mesh_field.hpp"
 
 #include <cstdio>
 #include <string>
@@ -16,16 +16,15 @@ MeshField::MeshField(const TriMesh& mesh, const MeshFieldOptions& options) {
   ValidationOptions vo;
   vo.weld_tolerance = options.weld_tolerance;
   vo.threads = options.threads;
-  const ValidationReport report = validate_mesh(mesh, vo);
-  solid_ = report.is_solid();
-  summary_ = report.summary();
-  area_ = report.area;
+  report_ = validate_mesh(mesh, vo);
+  solid_ = report_.is_solid();
+  area_ = report_.area;
   if (!(area_ > 0)) {
     // Nothing to measure distances to (every triangle collapsed: degenerate, or merged by a weld
     // tolerance as large as the mesh).
     char tol[64] = "";
     if (options.weld_tolerance > 0) std::snprintf(tol, sizeof tol, " after welding within %g", options.weld_tolerance);
-    throw InputError(mesh.name, 0, std::string("the mesh has no area") + tol + ": " + summary_);
+    throw InputError(mesh.name, 0, std::string("the mesh has no area") + tol + ": " + summary());
   }
   sign_ = solid_ ? options.sign : SignMethod::WindingNumber;
   WeldResult w = weld(mesh, {options.weld_tolerance});

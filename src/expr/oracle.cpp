@@ -1,0 +1,172 @@
+// Oracles: the default box bounds (from the Lipschitz bound) and the transformed wrapper.
+#include "frep/expr/oracle.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+
+#include "frep/error.hpp"
+#include "frep/expr/remap.hpp"
+
+namespace frep {
+
+void Oracle::bounds(const Interval* x, const Interval* y, const Interval* z, Interval* out, std::size_t n) const {
+  const double lip = lipschitz();
+  constexpr std::size_t kMax = 64;
+  // Centres in groups; equal centres (a box and the box's centre) are evaluated once.
+  for (std::size_t base = 0; base < n; base += kMax) {
+    const std::size_t m = std::min(kMax, n - base);
+    BoxCentre bc[kMax];
+    float cx[kMax], cy[kMax], cz[kMax], cv[kMax];
+    std::size_t slot[kMax], unique = 0;
+    for (std::size_t k = 0; k < m; ++k) {
+      bc[k] = box_centre(x[base + k], y[base + k], z[base + k]);
+      std::size_t u = 0;
+      while (u < unique && !(cx[u] == bc[k].c[0] && cy[u] == bc[k].c[1] && cz[u] == bc[k].c[2])) ++u;
+      if (u == unique) {
+        cx[u] = bc[k].c[0];
+        cy[u] = bc[k].c[1];
+        cz[u] = bc[k].c[2];
+        ++unique;
+      }
+      slot[k] = u;
+    }
+    values(cx, cy, cz, cv, unique);
+    for (std::size_t k = 0; k < m; ++k) {
+      const float c = cv[slot[k]];
+      Interval& o = out[base + k];
+      if (std::isnan(c) || !(lip > 0)) {
+        o = Interval::unknown();
+      } else if (bc[k].half_diagonal == 0) {
+        o = Interval::point(c);
+      } else {
+        constexpr float kInf = std::numeric_limits<float>::infinity();
+        o = lipschitz_bound({-kInf, kInf}, Interval::point(c), lip, bc[k].half_diagonal, bc[k].scale);
+      }
+    }
+  }
+}
+
+std::shared_ptr<const Oracle> Oracle::transformed(const Affine3& a) const {
+  if (a.is_identity()) return shared_from_this();
+  return std::make_shared<TransformedOracle>(shared_from_this(), a);
+}
+
+TransformedOracle::TransformedOracle(std::shared_ptr<const Oracle> base, const Affine3& a)
+    : base_(std::move(base)), map_(a), lipschitz_(base_->lipschitz() * a.stretch_bound()) {
+  FREP_ASSERT(a.finite(), "a transformed oracle needs a finite map");
+}
+
+void TransformedOracle::map_points(const float* x, const float* y, const float* z, float* qx, float* qy, float* qz,
+                                   std::size_t n) const {
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 q = map_.apply({x[i], y[i], z[i]});
+    qx[i] = static_cast<float>(q.x);
+    qy[i] = static_cast<float>(q.y);
+    qz[i] = static_cast<float>(q.z);
+  }
+}
+
+void TransformedOracle::values(const float* x, const float* y, const float* z, float* out, std::size_t n) const {
+  float qx[kChunk], qy[kChunk], qz[kChunk];
+  for (std::size_t b = 0; b < n; b += kChunk) {
+    const std::size_t m = std::min(kChunk, n - b);
+    map_points(x + b, y + b, z + b, qx, qy, qz, m);
+    base_->values(qx, qy, qz, out + b, m);
+  }
+}
+
+void TransformedOracle::gradients(const float* x, const float* y, const float* z, Grad* out, std::size_t n) const {
+  float qx[kChunk], qy[kChunk], qz[kChunk];
+  for (std::size_t b = 0; b < n; b += kChunk) {
+    const std::size_t m = std::min(kChunk, n - b);
+    map_points(x + b, y + b, z + b, qx, qy, qz, m);
+    base_->gradients(qx, qy, qz, out + b, m);
+    for (std::size_t i = 0; i < m; ++i) {
+      Grad& g = out[b + i];
+      const Vec3 d = map_.apply_transposed({g.dx, g.dy, g.dz});
+      g.dx = static_cast<float>(d.x);
+      g.dy = static_cast<float>(d.y);
+      g.dz = static_cast<float>(d.z);
+    }
+  }
+}
+
+void TransformedOracle::bounds(const Interval* x, const Interval* y, const Interval* z, Interval* out,
+                               std::size_t n) const {
+  const double lip = base_->lipschitz(), stretch = map_.stretch_bound();
+  float qx[kChunk], qy[kChunk], qz[kChunk], v[kChunk];
+  double radius[kChunk], scale[kChunk];
+  for (std::size_t b = 0; b < n; b += kChunk) {
+    const std::size_t m = std::min(kChunk, n - b);
+    for (std::size_t k = 0; k < m; ++k) {
+      const BoxCentre c = box_centre(x[b + k], y[b + k], z[b + k]);
+      const Vec3 q = map_.apply({c.c[0], c.c[1], c.c[2]});
+      qx[k] = static_cast<float>(q.x);
+      qy[k] = static_cast<float>(q.y);
+      qz[k] = static_cast<float>(q.z);
+      const double r = stretch * c.half_diagonal;
+      scale[k] = std::max({std::fabs(q.x), std::fabs(q.y), std::fabs(q.z)}) + r;
+      // Each mapped point is off its exact image by half an ulp per coordinate, the centre too.
+      radius[k] = r + 2 * std::sqrt(3.0) * 0x1p-24 * scale[k];
+    }
+    base_->values(qx, qy, qz, v, m);
+    for (std::size_t k = 0; k < m; ++k) {
+      constexpr float kInf = std::numeric_limits<float>::infinity();
+      out[b + k] = std::isnan(v[k]) || !(lip > 0) || !std::isfinite(radius[k])
+                       ? Interval::unknown()
+                       : lipschitz_bound({-kInf, kInf}, Interval::point(v[k]), lip, radius[k], scale[k]);
+    }
+  }
+}
+
+Box3 TransformedOracle::inside_box() const {
+  const Box3 b = base_->inside_box();
+  if (b.empty()) return b;
+  // The corners of the base's box mapped back through the inverse map.
+  const auto& m = map_.m;
+  const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                     m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  if (!(std::fabs(det) > 0) || !std::isfinite(det)) return {};
+  double inv[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      // Cofactor of (j, i) over the determinant.
+      const int r0 = (j + 1) % 3, r1 = (j + 2) % 3, c0 = (i + 1) % 3, c1 = (i + 2) % 3;
+      inv[i][j] = (m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0]) / det;
+    }
+  Box3 out;
+  for (int c = 0; c < 8; ++c) {
+    const Vec3 q{(c & 1) ? b.hi.x : b.lo.x, (c & 2) ? b.hi.y : b.lo.y, (c & 4) ? b.hi.z : b.lo.z};
+    const Vec3 d{q.x - m[0][3], q.y - m[1][3], q.z - m[2][3]};
+    out.add(Vec3{inv[0][0] * d.x + inv[0][1] * d.y + inv[0][2] * d.z, inv[1][0] * d.x + inv[1][1] * d.y + inv[1][2] * d.z,
+                 inv[2][0] * d.x + inv[2][1] * d.y + inv[2][2] * d.z});
+  }
+  // The inverse is rounded: grow the box by a little of its size.
+  const Vec3 s = out.size();
+  const double pad = 1e-9 * (std::max({s.x, s.y, s.z}) + std::max({std::fabs(out.lo.x), std::fabs(out.lo.y), std::fabs(out.lo.z),
+                                                                     std::fabs(out.hi.x), std::fabs(out.hi.y), std::fabs(out.hi.z)}));
+  return out.inflated(pad);
+}
+
+std::string TransformedOracle::describe() const {
+  char buf[400];
+  std::snprintf(buf, sizeof buf, " moved by [%.6g %.6g %.6g %.6g; %.6g %.6g %.6g %.6g; %.6g %.6g %.6g %.6g]", map_.m[0][0],
+                map_.m[0][1], map_.m[0][2], map_.m[0][3], map_.m[1][0], map_.m[1][1], map_.m[1][2], map_.m[1][3], map_.m[2][0],
+                map_.m[2][1], map_.m[2][2], map_.m[2][3]);
+  return base_->describe() + buf;
+}
+
+NodeId TransformedOracle::closed_form(Graph& g) const {
+  const NodeId f = base_->closed_form(g);
+  return remap(g, f, affine_row(g, map_, 0), affine_row(g, map_, 1), affine_row(g, map_, 2));
+}
+
+std::shared_ptr<const Oracle> TransformedOracle::transformed(const Affine3& a) const {
+  const Affine3 total = map_ * a;  // f(M(a(p)))
+  if (total.is_identity()) return base_;
+  return std::make_shared<TransformedOracle>(base_, total);
+}
+
+}  // namespace frep
