@@ -1,5 +1,5 @@
-// load_field: expression files as they are, meshes as mesh oracles (their exact signed
-// distance through their distance structure).
+// load_field: expression files as they are (scripts may load meshes with mesh("...")), meshes as
+// mesh oracles (their exact signed distance through their distance structure).
 #include <chrono>
 
 #include "frep/convert/convert.hpp"
@@ -10,29 +10,46 @@
 #include "frep/mesh/topology.hpp"
 
 namespace frep {
+namespace {
 
-Model load_field(const std::string& path, const ConvertOptions& options, ConvertStats* stats) {
-  if (format_from_extension(path) == MeshFormat::Unknown) return load_expression(path);
-  const auto t0 = std::chrono::steady_clock::now();
+// Reads and checks a mesh file; `warnings` receives what the reader tolerated.
+std::shared_ptr<const MeshOracle> load_mesh_oracle(const std::string& path, const ConvertOptions& options,
+                                                   std::vector<std::string>* warnings = nullptr) {
   const TriMesh mesh = read_mesh(path);
+  if (warnings) *warnings = mesh.warnings;
   try {
-    auto oracle = std::make_shared<const MeshOracle>(mesh, options);
-    if (stats) {
-      *stats = ConvertStats{};
-      const MeshField& f = oracle->field();
-      stats->triangles = f.distance().num_triangles();
-      stats->vertices = f.topology().num_used_vertices();
-      stats->box = f.box();
-      stats->nodes = 1;
-      stats->read_warnings = mesh.warnings;
-      stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    }
-    return mesh_model(std::move(oracle));
+    return std::make_shared<const MeshOracle>(mesh, options);
   } catch (const InputError& e) {
     // The checks see a mesh, not a file: name the file here.
     if (!e.file().empty()) throw;
     throw InputError(path, e.line(), e.detail(), e.byte_offset());
   }
+}
+
+}  // namespace
+
+Model load_field(const std::string& path, const ConvertOptions& options, ConvertStats* stats) {
+  if (format_from_extension(path) == MeshFormat::Unknown) {
+    RhaiOptions rhai;
+    rhai.load_mesh = [options](const std::string& mesh_path) -> std::shared_ptr<const Oracle> {
+      return load_mesh_oracle(mesh_path, options);
+    };
+    return load_expression(path, rhai);
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<std::string> warnings;
+  auto oracle = load_mesh_oracle(path, options, &warnings);
+  if (stats) {
+    *stats = ConvertStats{};
+    const MeshField& f = oracle->field();
+    stats->triangles = f.distance().num_triangles();
+    stats->vertices = f.topology().num_used_vertices();
+    stats->box = f.box();
+    stats->nodes = 1;
+    stats->read_warnings = std::move(warnings);
+    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  return mesh_model(std::move(oracle));
 }
 
 }  // namespace frep

@@ -152,7 +152,7 @@ Box3 TransformedOracle::inside_box() const {
 
 std::string TransformedOracle::describe() const {
   char buf[400];
-  std::snprintf(buf, sizeof buf, " moved by [%.6g %.6g %.6g %.6g; %.6g %.6g %.6g %.6g; %.6g %.6g %.6g %.6g]", map_.m[0][0],
+  std::snprintf(buf, sizeof buf, " at p -> [%.6g %.6g %.6g %.6g; %.6g %.6g %.6g %.6g; %.6g %.6g %.6g %.6g] p", map_.m[0][0],
                 map_.m[0][1], map_.m[0][2], map_.m[0][3], map_.m[1][0], map_.m[1][1], map_.m[1][2], map_.m[1][3], map_.m[2][0],
                 map_.m[2][1], map_.m[2][2], map_.m[2][3]);
   return base_->describe() + buf;

@@ -49,18 +49,18 @@ bool looks_like_vm(std::string_view text) {
 
 }  // namespace
 
-Model load_expression(const std::string& path) {
+Model load_expression(const std::string& path, const RhaiOptions& rhai) {
   const std::string text = read_file(path);
   if (is_frep_file(text) || ends_with(path, ".frep")) return parse_frep(text, path);  // a bad one says what is wrong
   if (ends_with(path, ".vm")) return parse_vm(text, path);
-  if (ends_with(path, ".rhai")) return parse_rhai(text, path);
+  if (ends_with(path, ".rhai")) return parse_rhai(text, path, rhai);
   if (looks_like_vm(text)) return parse_vm(text, path);
   // Binary content with another extension (an image, an archive): say so rather than report a
   // Rhai syntax error at its first byte.
   if (std::string_view(text).substr(0, 4096).find('\0') != std::string_view::npos || text.rfind("\x89PNG", 0) == 0)
     throw InputError(path, 0, "not an expression file (binary content): expected a .vm, .rhai or .frep expression, "
                               "or a mesh (.stl, .obj, .ply, .off)");
-  return parse_rhai(text, path);
+  return parse_rhai(text, path, rhai);
 }
 
 }  // namespace frep

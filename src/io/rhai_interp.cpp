@@ -2,6 +2,8 @@
 // Operators on values are in rhai_operators.cpp, conversions to trees in rhai_tree.cpp.
 #include "io/rhai_interp.hpp"
 
+#include <filesystem>
+
 #include "frep/util/memory_budget.hpp"
 
 #include <algorithm>
@@ -56,7 +58,8 @@ Interp::Interp(std::string_view text, const std::string& name, const RhaiOptions
       // Without a limit given, a share of the machine's memory (about 100 bytes per node while a
       // remap copies the graph, and the evaluators need more later): a script that doubles its
       // expression in a loop stops with a message instead of exhausting memory.
-      max_nodes_(options.max_nodes ? options.max_nodes : physical_memory_bytes() / 400) {
+      max_nodes_(options.max_nodes ? options.max_nodes : physical_memory_bytes() / 400),
+      load_mesh_(options.load_mesh) {
   // Builtin names first, so that their symbol ids index small tables. (The parser has already
   // read the first token, which may have interned one name before these: that is fine, the
   // tables are indexed by whatever ids the names get.)
@@ -570,7 +573,7 @@ Value Interp::eval_method(std::uint32_t n, Value* receiver) {
   const Builtin* b = builtin(sym);
   Value result;
   try {
-    result = b->fn(*this, std::span<Value>(args_.data() + base, args_.size() - base), pos);
+    result = invoke(*b, std::span<Value>(args_.data() + base, args_.size() - base), pos);
   } catch (...) {
     *p = std::move(args_[base]);
     throw;
@@ -804,13 +807,35 @@ Value Interp::eval_call(std::uint32_t n) {
   return call(sym, base, pos, false);
 }
 
+Value Interp::invoke(const Builtin& b, std::span<Value> args, std::uint32_t pos) {
+  try {
+    return b.fn(*this, args, pos);
+  } catch (const InputError& e) {
+    if (!e.file().empty()) throw;
+    fail(pos, "`" + std::string(b.name) + "`: " + e.detail());
+  }
+}
+
+NodeId Interp::mesh(const std::string& path, std::uint32_t pos) {
+  if (!load_mesh_) fail(pos, "`mesh` loads mesh files only where scripts are read from files (frep's commands)");
+  if (path.empty()) fail(pos, "`mesh`: the file name is empty");
+  std::filesystem::path p(path);
+  if (p.is_relative() && !name_.empty()) p = std::filesystem::path(name_).parent_path() / p;
+  const std::string key = p.lexically_normal().string();
+  if (const auto it = meshes_.find(key); it != meshes_.end()) return it->second;
+  check_nodes(1);
+  const NodeId n = g_.oracle(load_mesh_(key));
+  meshes_.emplace(key, n);
+  return n;
+}
+
 Value Interp::call(std::uint32_t sym, std::size_t base, std::uint32_t pos, bool method) {
   const std::size_t arity = args_.size() - base;
   for (int attempt = 0; attempt < 2; ++attempt) {
     const std::uint32_t f = find_fn(sym, arity);
     if (f != kNone) return call_script(f, base, pos);
     if (const Builtin* b = builtin(sym)) {
-      Value r = b->fn(*this, std::span<Value>(args_.data() + base, arity), pos);
+      Value r = invoke(*b, std::span<Value>(args_.data() + base, arity), pos);
       args_.resize(base);
       return r;
     }

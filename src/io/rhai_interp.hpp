@@ -5,6 +5,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
@@ -12,6 +14,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "frep/math/affine.hpp"
 #include "frep/expr/graph.hpp"
 #include "frep/io/rhai.hpp"
 #include "io/rhai_ast.hpp"
@@ -42,14 +45,9 @@ std::span<const Builtin> core_builtins();   // rhai_builtins.cpp
 std::span<const Builtin> shape_builtins();  // rhai_shapes.cpp
 std::span<const Builtin> ugf_builtins();    // rhai_ugf.cpp: the unit gradient field library
 
-// An affine map p -> M p + t, rows of [M | t]. Fidget composes chains of affine transforms into
-// one matrix (in f64) before building the expression; so does this reader.
-struct Affine {
-  double m[3][4];
-  static Affine identity();
-  // (this then other): the map p -> this(other(p)).
-  Affine operator*(const Affine& other) const;
-};
+// An affine map p -> M p + t (a * b is p -> a(b(p))). Fidget composes chains of affine
+// transforms into one matrix (in f64) before building the expression; so does this reader.
+using Affine = Affine3;
 
 class Interp {
  public:
@@ -82,7 +80,7 @@ class Interp {
   NodeId binary(Op op, NodeId a, NodeId b) { return g_.binary(op, a, b); }
   // Fidget's union / intersection: balanced trees of min / max; +inf / -inf when empty.
   NodeId reduce(Op op, std::span<const NodeId> items);
-  // The expression with x, y, z replaced (Fidget's `remap`).
+  // The expression with x, y, z replaced (Fidget's `remap`; frep::remap, charged).
   NodeId remap(NodeId e, NodeId x, NodeId y, NodeId z);
   // Fails when the graph plus `more` nodes would pass the node limit.
   void check_nodes(std::uint64_t more);
@@ -95,6 +93,9 @@ class Interp {
   NodeId var(int axis) const { return axes_[axis]; }
   // Records a shape for `draw`.
   void draw(NodeId shape) { drawn_.push_back(shape); }
+  // The oracle of the mesh file `path` names (relative to the script's folder), through
+  // RhaiOptions::load_mesh; the same file once per script.
+  NodeId mesh(const std::string& path, std::uint32_t pos);
   // Errors if an array or map would nest deeper than kMaxValueDepth.
   void check_depth(std::uint32_t depth, std::uint32_t pos) const;
 
@@ -123,6 +124,9 @@ class Interp {
   bool is_chain_link(const AstNode& n) const;
   bool is_mutating_method_on_place(const AstNode& n) const;
 
+  // Runs a builtin; an InputError it throws without a file (a library check) becomes a script
+  // error at `pos`.
+  Value invoke(const Builtin& b, std::span<Value> args, std::uint32_t pos);
   // Calls a function by name with arguments on args_ from `base`; pops them.
   Value call(std::uint32_t sym, std::size_t base, std::uint32_t pos, bool method);
   Value call_script(std::uint32_t fn, std::size_t base, std::uint32_t pos);
@@ -190,6 +194,8 @@ class Interp {
   std::vector<Value> constant_values_;  // Fidget's math constants, by their index
   std::vector<NodeId> drawn_;
   std::unordered_map<NodeId, std::pair<NodeId, Affine>> affine_of_;  // result -> (source, map)
+  std::function<std::shared_ptr<const Oracle>(const std::string&)> load_mesh_;
+  std::unordered_map<std::string, NodeId> meshes_;  // resolved path -> its oracle node
 };
 
 }  // namespace frep::rhai

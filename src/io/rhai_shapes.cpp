@@ -624,12 +624,18 @@ Value fn_plane(Interp& in, Args a, std::uint32_t pos) {
   return Value::heap(new PlaneObj(p, p[3]));
 }
 
+// mesh("part.stl"): a mesh file's exact signed distance (frep's own; Fidget has no meshes).
+Value fn_mesh(Interp& in, Args a, std::uint32_t pos) {
+  if (a.size() != 1 || a[0].kind() != Kind::Str) in.fail(pos, "`mesh` takes one string: the mesh file's name");
+  return Value::expr(in.mesh(std::string(a[0].as<StrObj>().text), pos));
+}
+
 constexpr std::size_t kShapeCount = std::size(kShapes);
 
 template <std::size_t... I>
-constexpr std::array<Builtin, kShapeCount + 5> make_builtins(std::index_sequence<I...>) {
+constexpr std::array<Builtin, kShapeCount + 6> make_builtins(std::index_sequence<I...>) {
   return {Builtin{kShapes[I].name, shape_fn<static_cast<int>(I)>}..., Builtin{"vec2", fn_vec2}, Builtin{"vec3", fn_vec3},
-          Builtin{"vec4", fn_vec4}, Builtin{"axis", fn_axis}, Builtin{"plane", fn_plane}};
+          Builtin{"vec4", fn_vec4}, Builtin{"axis", fn_axis}, Builtin{"plane", fn_plane}, Builtin{"mesh", fn_mesh}};
 }
 constexpr auto kShapeBuiltins = make_builtins(std::make_index_sequence<kShapeCount>{});
 

@@ -3,29 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
+#include "frep/expr/remap.hpp"
 #include "io/rhai_interp.hpp"
 
 namespace frep::rhai {
-
-Affine Affine::identity() {
-  Affine a{};
-  for (int i = 0; i < 3; ++i) a.m[i][i] = 1;
-  return a;
-}
-
-Affine Affine::operator*(const Affine& o) const {
-  Affine r{};
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 4; ++j) {
-      double s = j == 3 ? m[i][3] : 0.0;
-      for (int k = 0; k < 3; ++k) s += m[i][k] * o.m[k][j];
-      r.m[i][j] = s;
-    }
-  }
-  return r;
-}
 
 NodeId Interp::to_expr(const Value& v, std::uint32_t pos, const std::string& what) {
   switch (v.kind()) {
@@ -68,38 +50,11 @@ NodeId Interp::reduce(Op op, std::span<const NodeId> items) {
 }
 
 NodeId Interp::remap(NodeId e, NodeId x, NodeId y, NodeId z) {
-  if (x == axes_[0] && y == axes_[1] && z == axes_[2]) return e;
-  // The nodes reachable from e, then rebuilt in increasing id order (arguments first).
-  std::unordered_map<NodeId, NodeId> map;
-  std::vector<NodeId> order, stack{e};
-  map.emplace(e, kNoNode);
-  while (!stack.empty()) {
-    const NodeId n = stack.back();
-    stack.pop_back();
-    order.push_back(n);
-    const Node& nd = g_.node(n);
-    const int ar = op_arity(nd.op);
-    if (ar > 0 && map.emplace(nd.a, kNoNode).second) stack.push_back(nd.a);
-    if (ar > 1 && map.emplace(nd.b, kNoNode).second) stack.push_back(nd.b);
-  }
-  charge(order.size());
-  // The copy may add as many nodes as it visits: stop before building what the limit refuses.
-  check_nodes(order.size());
-  std::sort(order.begin(), order.end());
-  for (NodeId n : order) {
-    const Node nd = g_.node(n);
-    NodeId r;
-    switch (nd.op) {
-      case Op::VarX: r = x; break;
-      case Op::VarY: r = y; break;
-      case Op::VarZ: r = z; break;
-      case Op::Const: r = n; break;
-      default:
-        r = op_arity(nd.op) == 1 ? g_.unary(nd.op, map[nd.a]) : g_.binary(nd.op, map[nd.a], map[nd.b]);
-    }
-    map[n] = r;
-  }
-  return map[e];
+  return frep::remap(g_, e, x, y, z, [&](std::size_t nodes) {
+    charge(nodes);
+    // The copy may add as many nodes as it visits: stop before building what the limit refuses.
+    check_nodes(nodes);
+  });
 }
 
 NodeId Interp::linear(const double c[3], double d) {

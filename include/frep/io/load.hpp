@@ -4,6 +4,7 @@
 #include <string>
 
 #include "frep/expr/model.hpp"
+#include "frep/io/rhai.hpp"
 
 namespace frep {
 
@@ -11,6 +12,7 @@ namespace frep {
 // text format) and `.rhai` (Fidget's scripts, frep/io/rhai.hpp) by extension; other files are
 // read as `.vm` if their first instruction line looks like one (`<id> <opcode>` with a known
 // opcode), else as Rhai. Throws InputError naming the file and the line or byte.
-Model load_expression(const std::string& path);
+// `rhai` applies to scripts.
+Model load_expression(const std::string& path, const RhaiOptions& rhai = {});
 
 }  // namespace frep

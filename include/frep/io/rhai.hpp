@@ -5,6 +5,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <ostream>
 #include <string>
 #include <string_view>
@@ -23,6 +25,10 @@ struct RhaiOptions {
   // 400 bytes of the machine's memory (60 million on 24 GB): a script whose expression keeps
   // doubling (a remap of itself in a loop) stops with a message instead of exhausting memory.
   std::uint64_t max_nodes = 0;
+  // Loads the mesh file a script names in `mesh("part.stl")` (a path relative to the script's
+  // folder, or absolute) as an oracle: its exact signed distance. Unset: mesh() is an error.
+  // load_field sets it (frep/convert/mesh_oracle.hpp); the same file loads once per script.
+  std::function<std::shared_ptr<const Oracle>(const std::string& path)> load_mesh;
 };
 
 // Runs a script and returns the shape. `name` appears in error messages: InputError with the
