@@ -58,7 +58,7 @@ bool LeafMesher::process(const Tape& tape, const IndexBox& box, LeafRecord& out)
         }
       }
   }
-  batch_.eval(tape, xs_.data(), ys_.data(), zs_.data(), values_.data(), corners);
+  sample_corners(tape);
   {
     // Exact zeros inside the grid, next to another along a cell edge: a face or an edge of the
     // shape lies on grid lines (the grid's boundary is 0 where the cut closes the shape, on
@@ -199,6 +199,82 @@ bool LeafMesher::process(const Tape& tape, const IndexBox& box, LeafRecord& out)
       out.cells[j].t[a] = s < 0 ? NAN : crossings_[static_cast<std::size_t>(s)].t;
     }
   return true;
+}
+
+void LeafMesher::sample_corners(const Tape& tape) {
+  const std::size_t corners = values_.size();
+  // Without a Lipschitz bound every corner is evaluated.
+  const double lip = o_.lipschitz > 0 ? std::max(o_.lipschitz, 1.0) : 0;  // the cut at the box has slope 1
+  const int extent = std::max({ex_, ey_, ez_});
+  if (!(lip > 0) || extent < 4) {
+    batch_.eval(tape, xs_.data(), ys_.data(), zs_.data(), values_.data(), corners);
+    return;
+  }
+  // Coarse to fine: first the corners on a lattice of stride s0, then those of stride s0 / 2,
+  // ..., 1. A corner q none of whose cells can meet the surface, as an evaluated corner p of the
+  // coarser lattice proves (|f(p)| > L (|p - q| + a cell's diagonal), with the float slack of
+  // lipschitz_bound), is not a corner of any surface cell: only its sign matters, and it is
+  // f(p)'s. Every corner of a surface cell is evaluated, so the mesh is the same as from all
+  // corners; corners far from the surface, the dearest ones for fields such as mesh distances,
+  // are skipped.
+  known_.assign(corners, 0);
+  const double diagonal = grid_.h * std::sqrt(3.0) * (1 + 1e-6);
+  const int dims[3] = {cx_, cy_, cz_};
+  int s0 = 1;
+  while (2 * s0 <= extent / 2) s0 *= 2;
+  // On the lattice of stride s along every axis (the last corner of an axis counts as on it).
+  const auto on = [&](int i, int axis, int s) { return i % s == 0 || i == dims[axis] - 1; };
+  const auto evaluate_pending = [&] {
+    const std::size_t m = pending_.size();
+    px_.resize(m), py_.resize(m), pz_.resize(m), pv_.resize(m);
+    for (std::size_t j = 0; j < m; ++j) px_[j] = xs_[pending_[j]], py_[j] = ys_[pending_[j]], pz_[j] = zs_[pending_[j]];
+    batch_.eval(tape, px_.data(), py_.data(), pz_.data(), pv_.data(), m);
+    for (std::size_t j = 0; j < m; ++j) values_[pending_[j]] = pv_[j], known_[pending_[j]] = 1;
+  };
+  pending_.clear();
+  for (int z = 0; z < cz_; ++z)
+    for (int y = 0; y < cy_; ++y)
+      for (int x = 0; x < cx_; ++x)
+        if (on(x, 0, s0) && on(y, 1, s0) && on(z, 2, s0)) pending_.push_back(static_cast<std::uint32_t>(x + stride_[1] * y + stride_[2] * z));
+  evaluate_pending();
+  for (int s = s0 / 2; s >= 1; s /= 2) {
+    const int c = 2 * s;  // the coarser lattice, all known
+    pending_.clear();
+    for (int z = 0; z < cz_; ++z)
+      for (int y = 0; y < cy_; ++y)
+        for (int x = 0; x < cx_; ++x) {
+          const std::size_t k = x + stride_[1] * y + stride_[2] * z;
+          if (known_[k] || !(on(x, 0, s) && on(y, 1, s) && on(z, 2, s))) continue;
+          // The coarse lattice corners around q: per axis, the lattice values at or next to it.
+          int lo[3], hi[3];
+          const int q[3] = {x, y, z};
+          for (int a = 0; a < 3; ++a) {
+            lo[a] = on(q[a], a, c) ? q[a] : q[a] / c * c;
+            hi[a] = on(q[a], a, c) ? q[a] : std::min((q[a] / c + 1) * c, dims[a] - 1);
+          }
+          bool implied = false;
+          for (int cz2 = 0; cz2 < 2 && !implied; ++cz2)
+            for (int cy2 = 0; cy2 < 2 && !implied; ++cy2)
+              for (int cx2 = 0; cx2 < 2 && !implied; ++cx2) {
+                const std::size_t p = static_cast<std::size_t>(cx2 ? hi[0] : lo[0]) + stride_[1] * (cy2 ? hi[1] : lo[1]) +
+                                      stride_[2] * (cz2 ? hi[2] : lo[2]);
+                const double f = values_[p];
+                if (!known_[p] || !std::isfinite(f) || f == 0) continue;
+                const double dx = double(xs_[p]) - xs_[k], dy = double(ys_[p]) - ys_[k], dz = double(zs_[p]) - zs_[k];
+                const double dist = std::sqrt(dx * dx + dy * dy + dz * dz);
+                const double scale = std::max({std::fabs(double(xs_[k])), std::fabs(double(ys_[k])), std::fabs(double(zs_[k]))});
+                const double reach = lip * (dist + diagonal) * (1 + 0x1p-16) + 0x1p-16 * (std::fabs(f) + scale + dist);
+                if (std::fabs(f) > reach) {
+                  // Its sign, and a magnitude no caller reads (not a surface cell's corner).
+                  values_[k] = static_cast<float>(f > 0 ? std::fabs(f) - lip * dist : lip * dist - std::fabs(f));
+                  implied = true;
+                }
+              }
+          if (implied) known_[k] = 1;
+          else pending_.push_back(static_cast<std::uint32_t>(k));
+        }
+    evaluate_pending();
+  }
 }
 
 const LeafMesher::Crossing& LeafMesher::crossing(std::size_t base, int e) const {

@@ -87,6 +87,8 @@ class LeafMesher {
     Vec3 p;                // position
     Vec3f n;               // unit normal, or zero
   };
+  // Fills values_ at the leaf's corners (xs_, ys_, zs_ hold their positions).
+  void sample_corners(const Tape& tape);
   void find_roots(const Tape& tape);
   void find_normals(const Tape& tape);
   void place_vertices_dc(LeafRecord& out);
@@ -118,6 +120,9 @@ class LeafMesher {
   // The crossing on edge e of the cell whose corner 0 is leaf corner `base`.
   const Crossing& crossing(std::size_t base, int e) const;
   std::vector<float> xs_, ys_, zs_, values_;
+  std::vector<std::uint8_t> known_;           // per corner: its value is set (sample_corners)
+  std::vector<std::uint32_t> pending_;        // corners to evaluate in the current round
+  std::vector<float> px_, py_, pz_, pv_;      // their positions and values
   std::vector<std::int32_t> edge_slot_[3];  // per corner: crossing of the edge along axis a, or -1
   std::vector<Crossing> crossings_;
   std::vector<std::uint32_t> cell_index_;   // leaf cell index per surface cell of `out`

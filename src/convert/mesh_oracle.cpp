@@ -33,15 +33,24 @@ MeshOracle::MeshOracle(const TriMesh& mesh, const ConvertOptions& options)
   options_.progress = nullptr;  // a caller's progress callback may not outlive it
 }
 
+// The triangle found by this thread's latest query: batches come from small regions (a leaf's
+// corners, a tile's pixels), so it bounds the next search tightly. Any triangle bounds it
+// correctly; a stale one (another mesh's index) only costs time.
+thread_local std::uint32_t t_hint = MeshDistance::kNoHint;
+
 void MeshOracle::values(const float* x, const float* y, const float* z, float* out, std::size_t n) const {
-  for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<float>(field_.signed_distance(Vec3{x[i], y[i], z[i]}));
+  const MeshDistance& d = field_.distance();
+  std::uint32_t hint = t_hint;
+  for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<float>(d.signed_distance(Vec3{x[i], y[i], z[i]}, field_.sign(), hint));
+  t_hint = hint;
 }
 
 void MeshOracle::gradients(const float* x, const float* y, const float* z, Grad* out, std::size_t n) const {
   const MeshDistance& d = field_.distance();
+  std::uint32_t hint = t_hint;
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 p{x[i], y[i], z[i]};
-    const ClosestPoint c = d.closest_point(p);
+    const ClosestPoint c = d.closest_point(p, hint);
     Grad& g = out[i];
     if (std::isnan(c.distance)) {
       g = {NAN, NAN, NAN, NAN};
@@ -49,9 +58,7 @@ void MeshOracle::gradients(const float* x, const float* y, const float* z, Grad*
     }
     const Vec3 n = d.pseudonormal(c);
     const Vec3 v = p - c.point;
-    const double side = dot(v, n);
-    double s = side > 0 ? 1 : (side < 0 ? -1 : 0);
-    if (s == 0 && c.distance > 0) s = d.winding_number(p) > 0.5 ? -1 : 1;  // a degenerate feature
+    const double s = c.distance > 0 ? d.side(p, c, field_.sign()) : 0;
     const double len = length(v);
     // Off the surface, the unit vector from the closest point (on a face, its normal: no rounding
     // of the closest point); on it, the feature's pseudonormal.
@@ -66,6 +73,7 @@ void MeshOracle::gradients(const float* x, const float* y, const float* z, Grad*
     const double value = c.distance > 0 ? s * c.distance : c.distance;
     g = {static_cast<float>(value), static_cast<float>(dir.x), static_cast<float>(dir.y), static_cast<float>(dir.z)};
   }
+  t_hint = hint;
 }
 
 std::string MeshOracle::describe() const {

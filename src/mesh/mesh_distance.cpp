@@ -31,6 +31,7 @@ struct MeshDistance::Data {
   std::vector<Vec3> vertex_normal;            // per welded vertex
   std::vector<Triangle> welded;               // per mesh triangle, welded vertex indices
   std::vector<std::uint32_t> leaf_of;         // mesh triangle index -> leaf order (closest_point_on)
+  Box3 box;                                   // of the triangles' corners
 };
 
 namespace {
@@ -278,6 +279,7 @@ MeshDistance::MeshDistance(const TriMesh& m, const MeshTopology& topo, const Mes
     const std::uint32_t t = d.tri_id[i];
     corners[i] = {m.corner(t, 0), m.corner(t, 1), m.corner(t, 2)};
     d.tri[i] = {corners[i][0], corners[i][1], corners[i][2]};
+    for (const Vec3& v : corners[i]) d.box.add(v);
   }
   const double beta2 = options.winding_beta * options.winding_beta;
   WideBuilder{bvh->nodes(), corners, binary_dipoles(bvh->nodes(), corners), beta2, d.wide, d.dipoles, d.packets}.node(0);
@@ -320,6 +322,28 @@ ClosestPoint MeshDistance::closest_point(const Vec3& p) const {
   const std::uint32_t i = mesh_detail::nearest_triangle(d_->wide.data(), d_->packets.data(), p, d2);
   if (i >= d_->tri.size()) return {NAN, p, 0, Feature::Face};  // a NaN coordinate: nothing is nearer than infinity
   return closest_point_on(p, d_->tri_id[i]);
+}
+
+ClosestPoint MeshDistance::closest_point(const Vec3& p, std::uint32_t& hint) const {
+  if (!query_in_range(p)) return {NAN, p, 0, Feature::Face};
+  if (hint < d_->welded.size()) {
+    // The hint's squared distance bounds the search; with room for the SIMD search computing it
+    // another way (relative rounding, and cancellation next to the surface). A bound too small
+    // finds nothing and the search starts over; any bound above the answer finds the same
+    // triangle (ties go to the smallest index).
+    const Data::Tri& t = d_->tri[d_->leaf_of[hint]];
+    Feature f;
+    const Vec3 q = closest_on_triangle(p, t.a, t.b, t.c, f);
+    double d2 = length2(p - q) * (1 + 0x1p-30) + 0x1p-44 * (length2(p) + length2(t.a));
+    const std::uint32_t i = mesh_detail::nearest_triangle(d_->wide.data(), d_->packets.data(), p, d2);
+    if (i < d_->tri.size()) {
+      hint = d_->tri_id[i];
+      return closest_point_on(p, hint);
+    }
+  }
+  const ClosestPoint c = closest_point(p);
+  if (!std::isnan(c.distance)) hint = c.triangle;
+  return c;
 }
 
 ClosestPoint MeshDistance::closest_point_on(const Vec3& p, std::uint32_t triangle) const {
@@ -373,14 +397,25 @@ Vec3 MeshDistance::pseudonormal(const ClosestPoint& c) const {
 }
 
 double MeshDistance::signed_distance(const Vec3& p, SignMethod method) const {
-  const ClosestPoint c = closest_point(p);
-  if (c.distance == 0 || std::isnan(c.distance)) return c.distance;
+  std::uint32_t hint = kNoHint;
+  return signed_distance(p, method, hint);
+}
+
+double MeshDistance::signed_distance(const Vec3& p, SignMethod method, std::uint32_t& hint) const {
+  const ClosestPoint c = closest_point(p, hint);
+  return c.distance == 0 || std::isnan(c.distance) ? c.distance : side(p, c, method) * c.distance;
+}
+
+int MeshDistance::side(const Vec3& p, const ClosestPoint& c, SignMethod method) const {
   if (method == SignMethod::Pseudonormal) {
+    // Outside the triangles' box is outside the solid. Far away, the rounded distances of many
+    // triangles tie, and the one kept need not hold the closest feature its sign relies on.
+    if (!d_->box.contains(p)) return 1;
     const int s = pseudonormal_sign(p, c);
-    if (s != 0) return s * c.distance;
+    if (s != 0) return s;
     // Degenerate feature (zero normal): fall back on the winding number.
   }
-  return winding_number(p) > 0.5 ? -c.distance : c.distance;
+  return winding_number(p) > 0.5 ? -1 : 1;
 }
 
 void MeshDistance::signed_distance(const double* x, const double* y, const double* z, double* out, std::size_t n,

@@ -91,13 +91,13 @@ std::uint32_t NearestTriangle(const WideNode* nodes, const TriPacket* packets, c
   stack[sp++] = {0, 0, 0.0};
   while (sp > 0) {
     const Entry e = stack[--sp];
-    if (!(e.d2 < best)) continue;
+    if (!(e.d2 <= best)) continue;
     if (e.child < 0) {
       for (std::uint32_t k = 0; k < e.packets; ++k) {
         const TriPacket& t = packets[~e.child + k];
         for (std::size_t j = 0; j < kWidth; j += N) hn::Store(PacketDistance2(t, j, px, py, pz), d, dist + j);
         for (int j = 0; j < kWidth; ++j)
-          if (dist[j] < best) best = dist[j], best_tri = t.tri[j];
+          if (dist[j] < best || (dist[j] == best && t.tri[j] < best_tri)) best = dist[j], best_tri = t.tri[j];
       }
       continue;
     }
@@ -112,7 +112,9 @@ std::uint32_t NearestTriangle(const WideNode* nodes, const TriPacket* packets, c
     // Push the children within reach, farthest first so the nearest is visited next.
     int order[kWidth], m = 0;
     for (int j = 0; j < kWidth; ++j) {
-      if (!(dist[j] < best)) continue;
+      // Boxes as far as the best too: they may hold a tie with a smaller index. (Empty slots are
+      // infinitely far, also when nothing is found yet.)
+      if (!(dist[j] <= best) || dist[j] == INFINITY) continue;
       int k = m++;
       for (; k > 0 && dist[order[k - 1]] < dist[j]; --k) order[k] = order[k - 1];
       order[k] = j;

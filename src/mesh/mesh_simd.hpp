@@ -37,9 +37,11 @@ struct alignas(32) WideDipoles {
   double far2[kWidth];  // (beta * radius)^2: the dipole is used beyond this squared distance
 };
 
-// A triangle nearest to p over the wide BVH rooted at nodes[0]: its leaf-order index, with its
-// squared distance in `d2`. Only triangles strictly nearer than the incoming `d2` are considered
-// (pass INFINITY for none); returns UINT32_MAX if there is none.
+// The triangle nearest to p over the wide BVH rooted at nodes[0]: its leaf-order index, with its
+// squared distance in `d2`; among triangles at the same (computed) distance, the smallest index,
+// so that the answer does not depend on the search order. Only triangles at most the incoming
+// `d2` away are considered (pass INFINITY for all: a bound from a nearby query's triangle saves
+// most of the search); returns UINT32_MAX if there is none.
 std::uint32_t nearest_triangle(const WideNode* nodes, const TriPacket* packets, const Vec3& p, double& d2);
 
 // Sum of the solid angles of the triangles seen from p (4 pi times the winding number), with

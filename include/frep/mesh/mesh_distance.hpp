@@ -56,6 +56,11 @@ class MeshDistance {
   ~MeshDistance();
 
   ClosestPoint closest_point(const Vec3& p) const;
+  // The same answer, found faster from a triangle known to be near p (`hint`, a triangle index,
+  // or kNoHint): usually the previous query's, for a nearby point. The triangle found is
+  // written back to `hint`.
+  ClosestPoint closest_point(const Vec3& p, std::uint32_t& hint) const;
+  static constexpr std::uint32_t kNoHint = UINT32_MAX;
   // The closest point on one given triangle (an index of the mesh's triangles), computed exactly
   // as closest_point computes it on the triangle it finds: callers that know the nearest
   // triangle by other means (frep/sample/grid.hpp) get the same distance bits.
@@ -71,6 +76,11 @@ class MeshDistance {
   // degenerate one).
   Vec3 pseudonormal(const ClosestPoint& c) const;
   double signed_distance(const Vec3& p, SignMethod method = SignMethod::WindingNumber) const;
+  // The same with a hint, as closest_point.
+  double signed_distance(const Vec3& p, SignMethod method, std::uint32_t& hint) const;
+  // The sign signed_distance gives p off the surface, from its closest point c: +1 outside, -1
+  // inside (pseudonormal, or the winding number where the feature is degenerate).
+  int side(const Vec3& p, const ClosestPoint& c, SignMethod method) const;
 
   // Batch versions over `threads` threads (0: all cores); results do not depend on the count.
   void signed_distance(const double* x, const double* y, const double* z, double* out, std::size_t n,
