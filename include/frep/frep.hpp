@@ -44,6 +44,7 @@
 #include "frep/mesh/validate.hpp"
 #include "frep/mesh/mesh_distance.hpp"
 #include "frep/mesh/mesh_field.hpp"
+#include "frep/mesh/mesh_pair.hpp"
 
 #include "frep/render/image.hpp"
 #include "frep/render/render2d.hpp"

@@ -1,7 +1,8 @@
 // Clearance measurement (clearance.hpp): best-first interval branch and bound on S = A + B, then
 // a gradient-descent polish of the best point found. Each box carries the tape simplified to it
 // (shared with its parent unless simplifying shrinks it), so that near the bodies only the few
-// nearby terms of a converted mesh are evaluated.
+// nearby terms of a converted mesh are evaluated. The caller may seed it with points and watch
+// (and stop) it through a progress callback.
 #include "frep/ugf/clearance.hpp"
 
 #include <algorithm>
@@ -53,7 +54,31 @@ ClearanceResult find_clearance(Expr A, Expr B, Interval x, Interval y, Interval 
   // parent's.
   constexpr std::size_t kBudget = std::size_t{1} << 23, kRegisters = 200000;
   std::size_t held = 0;
+  // With a Lipschitz bound L of S: one evaluation of A and B at the cell's centre is both the
+  // sample and the bound, S(c) - L r (r: the distance from c to the farthest corner), less what
+  // rounding A, B and their sum to float may have cost (2^-22 of |A| + |B|, and the double
+  // computation behind them, relative to the point's magnitude).
+  const bool lip = opt.lipschitz > 0;
+  Tape ta, tb;
+  if (lip) ta = Tape::compile(g, A.id()), tb = Tape::compile(g, B.id());
+  auto lipschitz_lower = [&](Cell& c) {
+    const float cx = mid(c.x), cy = mid(c.y), cz = mid(c.z);
+    const float a = pe.eval(ta, cx, cy, cz), b = pe.eval(tb, cx, cy, cz), v = a + b;
+    ++res.boxes;
+    if (v < res.value) res.value = v, res.x = cx, res.y = cy, res.z = cz;
+    const double rx = std::max(double(cx) - c.x.lo, double(c.x.hi) - cx);
+    const double ry = std::max(double(cy) - c.y.lo, double(c.y.hi) - cy);
+    const double rz = std::max(double(cz) - c.z.lo, double(c.z.hi) - cz);
+    const double reach = std::sqrt(rx * rx + ry * ry + rz * rz) * (1 + 1e-12);
+    const double slack = 0x1p-22 * (std::fabs(double(a)) + std::fabs(double(b))) +
+                         0x1p-40 * opt.lipschitz * std::max({std::fabs(cx), std::fabs(cy), std::fabs(cz), 1.0f});
+    const double lo = double(v) - opt.lipschitz * reach - slack;
+    float f = static_cast<float>(lo);
+    if (double(f) > lo) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    c.lo = std::isnan(lo) ? -std::numeric_limits<float>::infinity() : f;
+  };
   auto lower = [&](Cell& c, const std::shared_ptr<const Tape>& parent, const std::shared_ptr<const Tape>& point) {
+    if (lip) return lipschitz_lower(c);
     const Interval r = iv.eval(*parent, c.x, c.y, c.z);
     ++res.boxes;
     c.tape = parent;
@@ -81,14 +106,30 @@ ClearanceResult find_clearance(Expr A, Expr B, Interval x, Interval y, Interval 
         sample(x.lo + (x.hi - x.lo) * (i + 0.5f) / kGrid, y.lo + (y.hi - y.lo) * (j + 0.5f) / kGrid,
                z.lo + (z.hi - z.lo) * (k + 0.5f) / kGrid, tape);
 
+  // The caller's seeds inside the region (outside it, a value would not bound S over the region).
+  for (const Vec3f& p : opt.seeds)
+    if (x.lo <= p.x && p.x <= x.hi && y.lo <= p.y && p.y <= y.hi && z.lo <= p.z && p.z <= z.hi)
+      sample(p.x, p.y, p.z, tape);
+
   std::priority_queue<Cell, std::vector<Cell>, std::greater<>> open;
   float pruned_lo = std::numeric_limits<float>::infinity();  // smallest bound of discarded cells
   Cell root{x, y, z, 0, nullptr, nullptr};
   lower(root, full, full);
   open.push(root);
+  std::size_t reported = 0;  // boxes at the last progress call
   while (!open.empty() && res.boxes < opt.max_boxes) {
     const Cell c = open.top();
-    if (c.lo >= res.value - opt.tolerance) break;  // every remaining cell is at least this
+    if (c.lo >= res.value - opt.tolerance) {  // every remaining cell is at least this
+      res.converged = true;
+      break;
+    }
+    if (opt.progress && res.boxes >= reported + 16) {
+      reported = res.boxes;
+      if (!opt.progress({res.boxes, res.value, std::min({pruned_lo, c.lo, res.value})})) {
+        res.stopped = true;
+        break;
+      }
+    }
     open.pop();
     // Halve the longest side.
     const float wx = c.x.hi - c.x.lo, wy = c.y.hi - c.y.lo, wz = c.z.hi - c.z.lo;
@@ -103,7 +144,7 @@ ClearanceResult find_clearance(Expr A, Expr B, Interval x, Interval y, Interval 
       }
       (half == 0 ? side.hi : side.lo) = m;
       lower(d, c.tape, c.point);
-      sample(mid(d.x), mid(d.y), mid(d.z), *d.point);
+      if (!lip) sample(mid(d.x), mid(d.y), mid(d.z), *d.point);
       if (d.lo < res.value - opt.tolerance) open.push(d);
       else pruned_lo = std::min(pruned_lo, d.lo);
     }
@@ -124,6 +165,7 @@ ClearanceResult find_clearance(Expr A, Expr B, Interval x, Interval y, Interval 
     step *= res.value < before ? 1.5f : 0.5f;
   }
 
+  if (open.empty()) res.converged = true;  // every cell was settled
   float lo = pruned_lo;
   if (!open.empty()) lo = std::min(lo, open.top().lo);
   res.lower_bound = std::min(lo, res.value);

@@ -1,14 +1,18 @@
 // End-to-end tests of `frep offset`, `frep shell` and `frep clearance`: run the built binary on
 // expression files and on a mesh, check the meshes written (closed and manifold, at the right
 // distance), the expressions written (equal to the library's), the clearance printed against
-// the exact gap, and the errors (exit 1 naming the file for bad input, 2 for a bad command line).
+// the exact gap (for two meshes: the mesh-to-mesh query's, digit for digit, with crossing,
+// touching and nested meshes named), and the errors (exit 1 naming the file for bad input, 2 for
+// a bad command line).
 #include <gtest/gtest.h>
 
 #include <array>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -16,7 +20,9 @@
 #include "frep/expr/expr.hpp"
 #include "frep/io/load.hpp"
 #include "frep/io/vm.hpp"
+#include "frep/mesh/mesh_field.hpp"
 #include "frep/mesh/mesh_io.hpp"
+#include "frep/mesh/mesh_pair.hpp"
 #include "frep/mesh/validate.hpp"
 #include "frep/ugf/offset.hpp"
 #include "mesh_test_util.hpp"
@@ -180,6 +186,126 @@ TEST_F(UgfCommands, ClearancePrintsTheGapOrTheInterference) {
   EXPECT_NE(r.out.find("(inside both;"), std::string::npos) << r.out;
   q = deep(r);
   EXPECT_NEAR(q[0], 0.95f, 1e-3f) << r.out;  // the cube ends at 1, ball2 starts at 0.9
+}
+
+TriMesh moved_mesh(TriMesh m, const Vec3& t) {
+  for (Vec3& v : m.vertices) v += t;
+  return m;
+}
+
+// "nearest points: x, y, z on A, x, y, z on B", parsed; NaN if absent.
+std::array<double, 6> nearest_points(const std::string& out) {
+  std::array<double, 6> p;
+  p.fill(NAN);
+  const std::size_t at = out.find("nearest points: ");
+  if (at == std::string::npos) return p;
+  std::sscanf(out.c_str() + at, "nearest points: %lf, %lf, %lf on %*[^,], %lf, %lf, %lf", &p[0], &p[1], &p[2], &p[3],
+              &p[4], &p[5]);
+  return p;
+}
+
+TEST_F(UgfCommands, ClearanceOfTwoMeshesIsTheirExactDistance) {
+  const std::string ball = path("ball.obj"), far = path("far.obj");
+  write_mesh(ball, test::make_sphere(2, 0.5));
+  const Vec3 t{1.75, 0.25, 0.125};  // floats: scripts move by float constants
+  write_mesh(far, moved_mesh(read_mesh(ball), t));
+  CliRun r = run("clearance '" + ball + "' '" + far + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  // The library's answer on the same files, digit for digit.
+  const MeshField fa(read_mesh(ball)), fb(read_mesh(far));
+  const MeshPairResult lib = compare_meshes(fa, fb);
+  ASSERT_TRUE(lib.apart());
+  double gap = 0;
+  ASSERT_EQ(std::sscanf(r.out.c_str(), "gap: %lf", &gap), 1) << r.out;
+  EXPECT_EQ(gap, lib.distance) << r.out;
+  const std::array<double, 6> p = nearest_points(r.out);
+  EXPECT_EQ(p[0], lib.point_a.x);
+  EXPECT_EQ(p[1], lib.point_a.y);
+  EXPECT_EQ(p[2], lib.point_a.z);
+  EXPECT_EQ(p[3], lib.point_b.x);
+  EXPECT_EQ(p[4], lib.point_b.y);
+  EXPECT_EQ(p[5], lib.point_b.z);
+  EXPECT_NE(r.out.find("exact: the distance between triangle " + std::to_string(lib.triangle_a)), std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.out.find("proven lower bound"), std::string::npos) << r.out;  // nothing left to prove
+  EXPECT_NE(r.err.find("frep: read"), std::string::npos) << r.err;
+  // Quiet: the result only.
+  r = run("clearance -q '" + ball + "' '" + far + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.find("frep: read"), std::string::npos) << r.err;
+  // The copy moved by a script instead (a moved mesh leaf): the same coordinates, the same gap.
+  const std::string script = path("moved.rhai");
+  test::write_text(script, "move(mesh(\"ball.obj\"), [1.75, 0.25, 0.125])\n");
+  r = run("clearance -q '" + ball + "' '" + script + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(std::sscanf(r.out.c_str(), "gap: %lf", &gap), 1) << r.out;
+  EXPECT_EQ(gap, compare_meshes(fa, {fa, Affine3::translation(t)}).distance) << r.out;
+}
+
+TEST_F(UgfCommands, ClearanceNamesCrossingNestedAndTouchingMeshes) {
+  const std::string ball = path("ball.obj"), near = path("near.obj"), small = path("small.obj");
+  write_mesh(ball, test::make_sphere(3, 0.5));
+  write_mesh(near, moved_mesh(test::make_sphere(3, 0.5), {0.5, 0, 0}));
+  write_mesh(small, moved_mesh(test::make_sphere(2, 0.2), {0.05, 0, 0}));
+  // Crossing: two balls of radius 0.5, 0.5 apart, overlap by about 0.5 (faceted).
+  CliRun r = run("clearance -q '" + ball + "' '" + near + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const MeshPairResult lib = compare_meshes(MeshField(read_mesh(ball)), MeshField(read_mesh(near)));
+  EXPECT_NE(r.out.find("surfaces cross: " + std::to_string(lib.crossing) + " triangle pairs (first: triangle " +
+                       std::to_string(lib.examples.front().a)),
+            std::string::npos)
+      << r.out;
+  float depth = 0;
+  const std::size_t at = r.out.find("interference: depth ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  ASSERT_EQ(std::sscanf(r.out.c_str() + at, "interference: depth %f", &depth), 1) << r.out;
+  EXPECT_NEAR(depth, 0.5f, 0.01f) << r.out;
+  EXPECT_NE(r.out.find("(inside both;"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("proven lower bound of A + B: "), std::string::npos) << r.out;
+  // Nested: the small ball (radius 0.2, centre 0.05 off) inside the big one (radius 0.5): A + B
+  // is smallest, |c| - 0.7, between the two centres.
+  r = run("clearance -q '" + ball + "' '" + small + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("nested: " + small + " lies inside " + ball), std::string::npos) << r.out;
+  const std::size_t at2 = r.out.find("interference: depth ");
+  ASSERT_NE(at2, std::string::npos) << r.out;
+  ASSERT_EQ(std::sscanf(r.out.c_str() + at2, "interference: depth %f", &depth), 1) << r.out;
+  EXPECT_NEAR(depth, 0.65f, 0.01f) << r.out;
+  // Touching: the cube [-1, 1]^3 and the cube [1, 3] x [-1, 1]^2 share a face plane.
+  const std::string beside = path("beside.obj");
+  write_mesh(beside, test::make_box({1, -1, -1}, {3, 1, 1}));
+  r = run("clearance -q '" + cube_ + "' '" + beside + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("surfaces touch: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("none crossing"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("gap: 0 (the surfaces touch"), std::string::npos) << r.out;
+  EXPECT_EQ(nearest_points(r.out)[0], 1) << r.out;
+}
+
+// The case: a real part and a copy of it moved along x, apart by 0.3 widths, and
+// crossing it when moved by a third of its width.
+TEST_F(UgfCommands, ClearanceOfARealPartAndMovedCopies) {
+  FREP_REQUIRE_SHARED_MESHES();
+  const std::string part = test::shared_mesh_dir() + "/fandisk.obj";
+  const TriMesh m = read_mesh(part);
+  const double w = bounding_box(m).size().x;
+  const std::string apart = path("apart.obj"), third = path("third.obj");
+  write_mesh(apart, moved_mesh(m, {1.3 * w, 0, 0}));
+  write_mesh(third, moved_mesh(m, {w / 3, 0, 0}));
+  const auto t0 = std::chrono::steady_clock::now();
+  CliRun r = run("clearance '" + part + "' '" + apart + "'");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_EQ(r.code, 0) << r.err;
+  double gap = 0;
+  ASSERT_EQ(std::sscanf(r.out.c_str(), "gap: %lf", &gap), 1) << r.out;
+  EXPECT_NEAR(gap, 0.3 * w, 1e-12 * w) << r.out;
+  EXPECT_NE(r.out.find("exact: "), std::string::npos) << r.out;
+  r = run("clearance '" + part + "' '" + third + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("surfaces cross: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("interference: depth "), std::string::npos) << r.out;
+  std::printf("[clearance] fandisk and a copy 1.3 widths along x: gap %.9g, %.2f s for the whole command\n", gap,
+              seconds);
 }
 
 TEST_F(UgfCommands, ErrorsNameTheFileAndUseTheExitCodes) {

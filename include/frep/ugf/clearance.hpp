@@ -4,17 +4,42 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
+#include <vector>
 
 #include "frep/eval/interval.hpp"
 #include "frep/expr/expr.hpp"
+#include "frep/math/vec.hpp"
 
 namespace frep::ugf {
+
+// Where a running search is (ClearanceOptions::progress).
+struct ClearanceProgress {
+  std::size_t boxes = 0;  // boxes examined so far
+  float value = 0;        // the smallest S found so far
+  float lower_bound = 0;  // what is proven so far: S >= this over the region
+};
 
 struct ClearanceOptions {
   // Stop when the best value found is within this of the proven lower bound.
   float tolerance = 1e-4f;
   // Most boxes to examine; on reaching it the lower bound is whatever was proven.
   std::size_t max_boxes = 200000;
+  // A bound L on |S(p) - S(q)| / |p - q| (2 for two signed distances), or 0 if unknown. When
+  // given, a box's lower bound is S at its centre minus L times its reach, from one evaluation
+  // of A and of B there (also the box's sample), instead of interval arithmetic on S and a
+  // separate sample: half the work where that is the interval bound anyway (mesh leaves), and no
+  // tape per box (so no pruning of big expressions: leave 0 for those). The bound allows for A
+  // and B being exact up to their rounding to float, as mesh leaves in place are; leave 0 for
+  // fields less exact than that (converted closed forms, exact to about 2^-22 of their size;
+  // moved mesh leaves, which round the moved point to float).
+  double lipschitz = 0;
+  // Points where S is sampled before the search (where the bodies are known to meet, say): a
+  // good first value lets the search discard more boxes.
+  std::vector<Vec3f> seeds;
+  // Called every 16 boxes (from the calling thread); returning false stops the search there,
+  // with the result proven so far.
+  std::function<bool(const ClearanceProgress&)> progress;
 };
 
 struct ClearanceResult {
@@ -25,6 +50,11 @@ struct ClearanceResult {
   float lower_bound = 0;
   float x = 0, y = 0, z = 0;
   std::size_t boxes = 0;  // boxes examined
+  bool stopped = false;   // the progress callback stopped the search
+  // The search ended because nothing left could be below value - tolerance (not for lack of
+  // boxes, nor stopped). Then lower_bound is within the tolerance of value, unless cells too
+  // small to split in float were set aside (their bound is in lower_bound).
+  bool converged = false;
 };
 
 // Minimizes A + B over the box [x] x [y] x [z]. A and B should be signed distances (or UGFs);
