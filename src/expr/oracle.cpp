@@ -125,24 +125,11 @@ Box3 TransformedOracle::inside_box() const {
   const Box3 b = base_->inside_box();
   if (b.empty()) return b;
   // The corners of the base's box mapped back through the inverse map.
-  const auto& m = map_.m;
-  const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-                     m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-  if (!(std::fabs(det) > 0) || !std::isfinite(det)) return {};
-  double inv[3][3];
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      // Cofactor of (j, i) over the determinant.
-      const int r0 = (j + 1) % 3, r1 = (j + 2) % 3, c0 = (i + 1) % 3, c1 = (i + 2) % 3;
-      inv[i][j] = (m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0]) / det;
-    }
+  const std::optional<Affine3> inv = map_.inverse();
+  if (!inv) return {};
   Box3 out;
-  for (int c = 0; c < 8; ++c) {
-    const Vec3 q{(c & 1) ? b.hi.x : b.lo.x, (c & 2) ? b.hi.y : b.lo.y, (c & 4) ? b.hi.z : b.lo.z};
-    const Vec3 d{q.x - m[0][3], q.y - m[1][3], q.z - m[2][3]};
-    out.add(Vec3{inv[0][0] * d.x + inv[0][1] * d.y + inv[0][2] * d.z, inv[1][0] * d.x + inv[1][1] * d.y + inv[1][2] * d.z,
-                 inv[2][0] * d.x + inv[2][1] * d.y + inv[2][2] * d.z});
-  }
+  for (int c = 0; c < 8; ++c)
+    out.add(inv->apply({(c & 1) ? b.hi.x : b.lo.x, (c & 2) ? b.hi.y : b.lo.y, (c & 4) ? b.hi.z : b.lo.z}));
   // The inverse is rounded: grow the box by a little of its size.
   const Vec3 s = out.size();
   const double pad = 1e-9 * (std::max({s.x, s.y, s.z}) + std::max({std::fabs(out.lo.x), std::fabs(out.lo.y), std::fabs(out.lo.z),

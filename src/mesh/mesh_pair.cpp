@@ -26,27 +26,6 @@
 namespace frep {
 namespace {
 
-// The inverse of an affine map (adjugate over determinant); false when the linear part is
-// singular or the result is not finite. A translation inverts exactly (its linear part stays 1s
-// and 0s, and its offset is negated).
-bool invert(const Affine3& a, Affine3& inv) {
-  const auto& m = a.m;
-  const double c00 = m[1][1] * m[2][2] - m[1][2] * m[2][1];
-  const double c01 = m[1][2] * m[2][0] - m[1][0] * m[2][2];
-  const double c02 = m[1][0] * m[2][1] - m[1][1] * m[2][0];
-  const double det = m[0][0] * c00 + m[0][1] * c01 + m[0][2] * c02;
-  if (!(det != 0) || !std::isfinite(det)) return false;
-  const double r[3][3] = {
-      {c00, m[0][2] * m[2][1] - m[0][1] * m[2][2], m[0][1] * m[1][2] - m[0][2] * m[1][1]},
-      {c01, m[0][0] * m[2][2] - m[0][2] * m[2][0], m[0][2] * m[1][0] - m[0][0] * m[1][2]},
-      {c02, m[0][1] * m[2][0] - m[0][0] * m[2][1], m[0][0] * m[1][1] - m[0][1] * m[1][0]}};
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) inv.m[i][j] = r[i][j] / det;
-    inv.m[i][3] = -(inv.m[i][0] * m[0][3] + inv.m[i][1] * m[1][3] + inv.m[i][2] * m[2][3]);
-  }
-  return inv.finite();
-}
-
 // --- Triangle-triangle distance pieces (double precision).
 
 // Closest point to p on segment ab (a point if a == b).
@@ -481,10 +460,9 @@ class DistanceSearch {
 }  // namespace
 
 PlacedMesh PlacedMesh::moved_field(const MeshField& f, const Affine3& map) {
-  Affine3 inv;
-  if (!map.finite() || !invert(map, inv))
-    throw InputError(f.welded().name, 0, "the map that moves the mesh is not invertible: it has no placement");
-  return PlacedMesh(f, inv);
+  const std::optional<Affine3> inv = map.finite() ? map.inverse() : std::nullopt;
+  if (!inv) throw InputError(f.welded().name, 0, "the map that moves the mesh is not invertible: it has no placement");
+  return PlacedMesh(f, *inv);
 }
 
 double triangle_distance2(const Vec3 p[3], const Vec3 q[3], Vec3& on_p, Vec3& on_q) {
@@ -516,9 +494,9 @@ MeshPairResult compare_meshes(const PlacedMesh& pa, const PlacedMesh& pb, const 
   for (const PlacedMesh* p : {&pa, &pb})
     if (!p->place.finite())
       throw InputError(p->field->welded().name, 0, "the placement of the mesh is not finite");
-  Affine3 inv_a, inv_b;
-  if (!invert(pa.place, inv_a)) throw InputError(pa.field->welded().name, 0, "the placement of the mesh is singular");
-  if (!invert(pb.place, inv_b)) throw InputError(pb.field->welded().name, 0, "the placement of the mesh is singular");
+  const std::optional<Affine3> inv_a = pa.place.inverse(), inv_b = pb.place.inverse();
+  if (!inv_a) throw InputError(pa.field->welded().name, 0, "the placement of the mesh is singular");
+  if (!inv_b) throw InputError(pb.field->welded().name, 0, "the placement of the mesh is singular");
 
   // Placed coordinates, then one power of two for both so that the largest magnitude is in
   // [1/2, 1): the exact predicates' expansions neither overflow nor underflow, and no
@@ -614,8 +592,8 @@ MeshPairResult compare_meshes(const PlacedMesh& pa, const PlacedMesh& pb, const 
       }
       return n;
     };
-    r.a_shells_inside_b = inside(pa, pb, inv_b);
-    r.b_shells_inside_a = inside(pb, pa, inv_a);
+    r.a_shells_inside_b = inside(pa, pb, *inv_b);
+    r.b_shells_inside_a = inside(pb, pa, *inv_a);
 
     if (!opt.distance) {
       r.distance = std::numeric_limits<double>::quiet_NaN();

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "frep/math/vec.hpp"
 
@@ -52,6 +53,25 @@ struct Affine3 {
       for (double v : row)
         if (!std::isfinite(v)) return false;
     return true;
+  }
+  // The inverse map (adjugate over determinant), or nullopt when the linear part is singular or
+  // the result is not finite. A translation inverts exactly (its linear part stays 1s and 0s).
+  std::optional<Affine3> inverse() const {
+    const double c00 = m[1][1] * m[2][2] - m[1][2] * m[2][1];
+    const double c01 = m[1][2] * m[2][0] - m[1][0] * m[2][2];
+    const double c02 = m[1][0] * m[2][1] - m[1][1] * m[2][0];
+    const double det = m[0][0] * c00 + m[0][1] * c01 + m[0][2] * c02;
+    if (!(det != 0) || !std::isfinite(det)) return std::nullopt;
+    const double r[3][3] = {{c00, m[0][2] * m[2][1] - m[0][1] * m[2][2], m[0][1] * m[1][2] - m[0][2] * m[1][1]},
+                            {c01, m[0][0] * m[2][2] - m[0][2] * m[2][0], m[0][2] * m[1][0] - m[0][0] * m[1][2]},
+                            {c02, m[0][1] * m[2][0] - m[0][0] * m[2][1], m[0][0] * m[1][1] - m[0][1] * m[1][0]}};
+    Affine3 inv;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) inv.m[i][j] = r[i][j] / det;
+      inv.m[i][3] = -(inv.m[i][0] * m[0][3] + inv.m[i][1] * m[1][3] + inv.m[i][2] * m[2][3]);
+    }
+    if (!inv.finite()) return std::nullopt;
+    return inv;
   }
   // An upper bound of the linear part's largest stretch |M v| / |v| (its spectral norm): the
   // smaller of the Frobenius norm and the square root of the largest row sum of |M^T M|
