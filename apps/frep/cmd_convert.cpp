@@ -2,10 +2,13 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 
 #include "commands.hpp"
 #include "input.hpp"
 #include "frep/convert/convert.hpp"
+#include "frep/convert/mesh_oracle.hpp"
+#include "frep/io/frep_file.hpp"
 #include "frep/io/save.hpp"
 #include "frep/mesh/mesh_io.hpp"
 
@@ -57,7 +60,15 @@ void register_convert(CLI::App& app) {
       };
     const ConvertResult r = convert_mesh(mesh, opt);
     const auto t0 = std::chrono::steady_clock::now();
-    save_expression(a->output, r.model);
+    if (std::filesystem::path(a->output).extension() == ".frep") {
+      // frep's own format keeps the triangles beside the closed form: reading it back evaluates
+      // through the mesh (a mesh leaf), and writes the same formula again.
+      auto closed = std::make_shared<const std::string>(serialize_frep(*r.model.graph, r.model.root, r.model.info));
+      save_expression(a->output, mesh_model(std::make_shared<const MeshOracle>(mesh, opt, std::move(closed))),
+                      &mesh_oracle_codec());
+    } else {
+      save_expression(a->output, r.model);
+    }
     const double write_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (a->quiet) return;
     const ConvertStats& s = r.stats;

@@ -11,6 +11,7 @@
 #include "input.hpp"
 #include "frep/util/memory_budget.hpp"
 #include "frep/error.hpp"
+#include "frep/convert/mesh_oracle.hpp"
 #include "frep/io/load.hpp"
 #include "frep/io/npy.hpp"
 #include "frep/mesh/mesh_io.hpp"
@@ -116,15 +117,29 @@ void register_sample(CLI::App& app) {
     try {
       if (!a->grid)
         require_memory(total_points, 32, "sampling " + std::to_string(total_points) + " points", "sample fewer points");
+      // A mesh, or an expression file that is one mesh leaf (a .frep frep convert wrote): sampled
+      // from the mesh itself (the closest point transform for grids).
+      std::optional<MeshField> own;
+      std::optional<Model> model;
+      const MeshField* mesh_field = nullptr;
       if (format_from_extension(a->input) != MeshFormat::Unknown) {
         MeshFieldOptions fo;
         fo.sign = a->sign == "winding" ? SignMethod::WindingNumber : SignMethod::Pseudonormal;
         fo.weld_tolerance = a->weld_tolerance;
         fo.threads = a->threads;
-        const MeshField field(read_mesh_noting(a->input), fo);
-        if (!field.solid() && !a->quiet)
+        own.emplace(read_mesh_noting(a->input), fo);
+        mesh_field = &*own;
+        if (!own->solid() && !a->quiet)
           std::fprintf(stderr, "frep sample: %s: %s; signs from the winding number\n", a->input.c_str(),
-                       field.summary().c_str());
+                       own->summary().c_str());
+      } else {
+        model.emplace(load_input(a->input, a->quiet));
+        Affine3 map;
+        const MeshOracle* mo = as_mesh_oracle(*model->graph, model->root, &map);
+        if (mo && map.is_identity()) mesh_field = &mo->field();
+      }
+      if (mesh_field) {
+        const MeshField& field = *mesh_field;
         const Box3 b = bounds ? *bounds : default_mesh_bounds(field.box());
         used = b;
         if (a->grid) {
@@ -152,7 +167,7 @@ void register_sample(CLI::App& app) {
         what += std::string(what.empty() ? "" : ", ") +
                 (field.sign() == SignMethod::Pseudonormal ? "pseudonormal signs" : "winding-number signs");
       } else {
-        const Model m = load_expression(a->input);
+        const Model& m = *model;
         const Tape tape = Tape::compile(*m.graph, m.root);
         // The file's box of its inside (frep convert writes the mesh's), as for a mesh; else
         // Fidget's usual region.

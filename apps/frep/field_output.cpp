@@ -8,6 +8,7 @@
 
 #include "input.hpp"
 #include "frep/contour/bounds.hpp"
+#include "frep/convert/mesh_oracle.hpp"
 #include "frep/contour/mesher.hpp"
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
@@ -111,7 +112,7 @@ Box3 checked_growth(const Tape& result, const Box3& grown) {
 void write_field_output(const std::string& input, const std::string& path, const Graph& g, NodeId root,
                         const Box3& region, const FieldOutputOptions& o, const FieldInfo& info, const Tape* tape) {
   if (!is_mesh_output(path)) {
-    save_expression(path, g, root, info);
+    save_expression(path, g, root, info, &mesh_oracle_codec());
     if (!o.quiet) fmt::print("wrote {} (the expression)\n", path);
     return;
   }

@@ -34,7 +34,7 @@ Model load_field(const std::string& path, const ConvertOptions& options, Convert
     rhai.load_mesh = [options](const std::string& mesh_path) -> std::shared_ptr<const Oracle> {
       return load_mesh_oracle(mesh_path, options);
     };
-    return load_expression(path, rhai);
+    return load_expression(path, rhai, &mesh_oracle_codec());
   }
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<std::string> warnings;

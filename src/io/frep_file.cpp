@@ -14,7 +14,8 @@
 namespace frep {
 namespace {
 
-constexpr std::uint32_t kVersion = 2;
+constexpr std::uint32_t kVersion = 2;          // what files without oracles are written as
+constexpr std::uint32_t kOracleVersion = 3;    // files holding oracle records
 constexpr std::size_t kHeaderV1 = 8 + 4 + 4 + 8 + 8;
 constexpr std::size_t kHeader = kHeaderV1 + 7 * 8;  // + Lipschitz bound and box
 
@@ -73,18 +74,29 @@ T get(std::string_view b, std::size_t at) {
 
 bool is_frep_file(std::string_view bytes) { return bytes.substr(0, kFrepMagic.size()) == kFrepMagic; }
 
-std::string serialize_frep(const Graph& g, NodeId root, const FieldInfo& info) {
-  if (has_oracles(g, root)) {
-    const Model m = expand_oracles(g, root);
-    return serialize_frep(*m.graph, m.root, info);
-  }
+std::string serialize_frep(const Graph& g, NodeId root, const FieldInfo& info, const FrepOracleCodec* codec) {
   const std::vector<NodeId> order = reachable_nodes(g, root);
+  // Records of the oracles, in order of first use; any the codec cannot keep means the closed form.
+  std::vector<std::string> records;
+  std::vector<std::uint32_t> record_of(g.oracles().size(), UINT32_MAX);
+  for (NodeId id : order) {
+    const Node& n = g.node(id);
+    if (n.op != Op::Oracle || record_of[oracle_index(n.value)] != UINT32_MAX) continue;
+    std::optional<std::string> r;
+    if (codec && codec->encode) r = codec->encode(g.oracle_of(n));
+    if (!r) {
+      const Model m = expand_oracles(g, root);
+      return serialize_frep(*m.graph, m.root, info);
+    }
+    record_of[oracle_index(n.value)] = static_cast<std::uint32_t>(records.size());
+    records.push_back(std::move(*r));
+  }
   std::vector<std::uint64_t> index(static_cast<std::size_t>(root) + 1, 0);
   for (std::size_t i = 0; i < order.size(); ++i) index[order[i]] = i;
   std::string out;
   out.reserve(kHeader + order.size() * 4 + 4);
   out.append(kFrepMagic);
-  put<std::uint32_t>(out, kVersion);
+  put<std::uint32_t>(out, records.empty() ? kVersion : kOracleVersion);
   put<std::uint32_t>(out, 0);
   put<std::uint64_t>(out, order.size());
   put<std::uint64_t>(out, order.size() - 1);  // the root is last in topological order
@@ -92,10 +104,18 @@ std::string serialize_frep(const Graph& g, NodeId root, const FieldInfo& info) {
   const double unknown = std::numeric_limits<double>::quiet_NaN();
   for (const Vec3* v : {&info.bounds.lo, &info.bounds.hi})
     for (int a = 0; a < 3; ++a) put<double>(out, info.bounds.empty() ? unknown : (*v)[a]);
+  if (!records.empty()) {
+    put<std::uint32_t>(out, static_cast<std::uint32_t>(records.size()));
+    for (const std::string& r : records) {
+      put<std::uint64_t>(out, r.size());
+      out += r;
+    }
+  }
   for (std::size_t i = 0; i < order.size(); ++i) {
     const Node& n = g.node(order[i]);
     out.push_back(static_cast<char>(n.op));
     if (n.op == Op::Const) put<float>(out, n.value);
+    if (n.op == Op::Oracle) put_varint(out, record_of[oracle_index(n.value)]);
     const int ar = op_arity(n.op);
     if (ar >= 1) put_varint(out, i - index[n.a]);
     if (ar >= 2) put_varint(out, i - index[n.b]);
@@ -104,20 +124,20 @@ std::string serialize_frep(const Graph& g, NodeId root, const FieldInfo& info) {
   return out;
 }
 
-void save_frep(const std::string& path, const Graph& g, NodeId root, const FieldInfo& info) {
-  write_file_atomically(path, serialize_frep(g, root, info));
+void save_frep(const std::string& path, const Graph& g, NodeId root, const FieldInfo& info, const FrepOracleCodec* codec) {
+  write_file_atomically(path, serialize_frep(g, root, info, codec));
 }
 
-Model parse_frep(std::string_view b, const std::string& name) {
+Model parse_frep(std::string_view b, const std::string& name, const FrepOracleCodec* codec) {
   auto fail = [&](std::size_t at, const std::string& what) -> InputError {
     return InputError(name, 0, what, at == 0 ? 1 : at);  // byte offsets are 1-based in messages' eyes
   };
   if (!is_frep_file(b)) throw fail(0, "not a .frep file (wrong magic bytes)");
   if (b.size() < kHeaderV1 + 4) throw fail(b.size(), "truncated .frep file (" + std::to_string(b.size()) + " bytes, header incomplete)");
   const auto version = get<std::uint32_t>(b, 8);
-  if (version != 1 && version != kVersion)
+  if (version < 1 || version > kOracleVersion)
     throw fail(8, ".frep format version " + std::to_string(version) + " is not supported (this frep reads versions 1 to " +
-                      std::to_string(kVersion) + ")");
+                      std::to_string(kOracleVersion) + ")");
   const std::size_t header = version == 1 ? kHeaderV1 : kHeader;
   if (b.size() < header + 4) throw fail(b.size(), "truncated .frep file (" + std::to_string(b.size()) + " bytes, header incomplete)");
   const auto count = get<std::uint64_t>(b, 16), root = get<std::uint64_t>(b, 24);
@@ -156,9 +176,40 @@ Model parse_frep(std::string_view b, const std::string& name) {
     if (v == 0 || v > i) throw fail(at, "node " + std::to_string(i) + " refers to a node after it");
     return ids[i - v];
   };
+  // Oracle records come before the nodes that use them.
+  std::vector<NodeId> record_nodes;
+  if (version >= kOracleVersion) {
+    if (!codec || !codec->decode)
+      throw fail(at, "the file holds mesh leaves (oracles), which only frep's commands and load_field read");
+    if (at + 4 > end) throw fail(at, "truncated oracle records");
+    const std::uint32_t records = get<std::uint32_t>(b, at);
+    at += 4;
+    for (std::uint32_t k = 0; k < records; ++k) {
+      if (at + 8 > end) throw fail(at, "truncated oracle record " + std::to_string(k));
+      const std::uint64_t len = get<std::uint64_t>(b, at);
+      at += 8;
+      if (len > end - at) throw fail(at, "truncated oracle record " + std::to_string(k));
+      record_nodes.push_back(g.oracle(codec->decode(b.substr(at, len), name)));
+      at += len;
+    }
+  }
   for (std::size_t i = 0; i < count; ++i) {
     if (at >= end) throw fail(at, "truncated: " + std::to_string(i) + " of " + std::to_string(count) + " nodes");
     const auto op_id = static_cast<unsigned char>(b[at++]);
+    if (version >= kOracleVersion && op_id == static_cast<unsigned char>(Op::Oracle)) {
+      std::uint64_t r = 0;
+      for (int shift = 0;; shift += 7) {
+        if (at >= end || shift > 63) throw fail(at, "bad oracle of node " + std::to_string(i));
+        const auto byte = static_cast<unsigned char>(b[at++]);
+        r |= static_cast<std::uint64_t>(byte & 0x7f) << shift;
+        if (!(byte & 0x80)) break;
+      }
+      if (r >= record_nodes.size())
+        throw fail(at, "node " + std::to_string(i) + " names oracle record " + std::to_string(r) + " of " +
+                           std::to_string(record_nodes.size()));
+      ids.push_back(record_nodes[r]);
+      continue;
+    }
     if (op_id >= kOpCount) throw fail(at - 1, "unknown opcode id " + std::to_string(op_id) + " (node " + std::to_string(i) + ")");
     const Op op = static_cast<Op>(op_id);
     float value = 0;
@@ -177,6 +228,6 @@ Model parse_frep(std::string_view b, const std::string& name) {
   return m;
 }
 
-Model read_frep(const std::string& path) { return parse_frep(read_file(path), path); }
+Model read_frep(const std::string& path, const FrepOracleCodec* codec) { return parse_frep(read_file(path), path, codec); }
 
 }  // namespace frep

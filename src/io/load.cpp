@@ -49,9 +49,9 @@ bool looks_like_vm(std::string_view text) {
 
 }  // namespace
 
-Model load_expression(const std::string& path, const RhaiOptions& rhai) {
+Model load_expression(const std::string& path, const RhaiOptions& rhai, const FrepOracleCodec* oracles) {
   const std::string text = read_file(path);
-  if (is_frep_file(text) || ends_with(path, ".frep")) return parse_frep(text, path);  // a bad one says what is wrong
+  if (is_frep_file(text) || ends_with(path, ".frep")) return parse_frep(text, path, oracles);  // a bad one says what is wrong
   if (ends_with(path, ".vm")) return parse_vm(text, path);
   if (ends_with(path, ".rhai")) return parse_rhai(text, path, rhai);
   if (looks_like_vm(text)) return parse_vm(text, path);

@@ -24,14 +24,17 @@ Format format_of(const std::string& path) {
 
 void check_expression_path(const std::string& path) { format_of(path); }
 
-void save_expression(const std::string& path, const Graph& g, NodeId root, const FieldInfo& info) {
+void save_expression(const std::string& path, const Graph& g, NodeId root, const FieldInfo& info,
+                     const FrepOracleCodec* oracles) {
   switch (format_of(path)) {
     case Format::Vm: return save_vm(path, g, root, info);
-    case Format::Frep: return save_frep(path, g, root, info);
+    case Format::Frep: return save_frep(path, g, root, info, oracles);
     case Format::Rhai: return save_rhai(path, g, root, info);
   }
 }
 
-void save_expression(const std::string& path, const Model& m) { save_expression(path, *m.graph, m.root, m.info); }
+void save_expression(const std::string& path, const Model& m, const FrepOracleCodec* oracles) {
+  save_expression(path, *m.graph, m.root, m.info, oracles);
+}
 
 }  // namespace frep

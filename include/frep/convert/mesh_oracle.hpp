@@ -11,11 +11,13 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <string>
 
 #include "frep/convert/convert.hpp"
 #include "frep/expr/model.hpp"
 #include "frep/expr/oracle.hpp"
+#include "frep/io/frep_file.hpp"
 #include "frep/mesh/mesh.hpp"
 #include "frep/mesh/mesh_field.hpp"
 
@@ -27,12 +29,23 @@ class MeshOracle final : public Oracle {
   // (a mesh `frep check` rejects, zero-area triangles), then indexes it. `options` are kept for
   // the closed form (sign method, TetGen); options.weld_tolerance and threads apply here too.
   explicit MeshOracle(const TriMesh& mesh, const ConvertOptions& options = {});
+  // The same with its closed form given as .frep bytes (version 2, no oracles): what a .frep
+  // file keeps, so that its formula stays bit for bit what was converted (TetGen's signs too).
+  MeshOracle(const TriMesh& mesh, const ConvertOptions& options, std::shared_ptr<const std::string> closed_form_frep);
 
   const MeshField& field() const { return field_; }
   const std::string& name() const { return name_; }
+  // The mesh as it was given (what the closed form converts and .frep files keep).
+  const TriMesh& mesh() const { return mesh_; }
+  const ConvertOptions& options() const { return options_; }
+  // The closed form as .frep bytes: the ones given, or converted (once) and serialized.
+  std::shared_ptr<const std::string> closed_form_frep() const;
 
   void values(const float* x, const float* y, const float* z, float* out, std::size_t n) const override;
   void gradients(const float* x, const float* y, const float* z, Grad* out, std::size_t n) const override;
+  // Oracle::bounds, raised to the distance from the box to the mesh's bounding box where they are
+  // apart (the distance to the surface is at least that): far boxes are proven positive.
+  void bounds(const Interval* x, const Interval* y, const Interval* z, Interval* out, std::size_t n) const override;
   double lipschitz() const override { return 1; }
   Box3 inside_box() const override { return field_.box(); }
   std::string describe() const override;
@@ -43,7 +56,13 @@ class MeshOracle final : public Oracle {
   TriMesh mesh_;  // as read: what the closed form converts
   std::string name_;
   ConvertOptions options_;
+  mutable std::mutex closed_mutex_;
+  mutable std::shared_ptr<const std::string> closed_frep_;  // given, or made by closed_form_frep()
 };
+
+// Keeps mesh oracles (moved or not) in .frep files: the mesh as given, the weld tolerance, the
+// map, and the closed form's bytes. Reading checks the mesh again, as from a mesh file.
+const FrepOracleCodec& mesh_oracle_codec();
 
 // A model whose field is the mesh's signed distance through a MeshOracle: the root is the
 // oracle, FieldInfo says L = 1 and gives the mesh's bounding box.
