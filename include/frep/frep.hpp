@@ -22,6 +22,7 @@
 #include "frep/eval/interval.hpp"
 #include "frep/eval/grad.hpp"
 #include "frep/eval/tape.hpp"
+#include "frep/eval/backend.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/eval/interval_batch.hpp"
 #include "frep/eval/point_cloud.hpp"

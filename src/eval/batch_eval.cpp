@@ -14,6 +14,7 @@
 #include <cstring>
 
 #include "frep/error.hpp"
+#include "eval/interp_kernels.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/expr/oracle.hpp"
 #include "frep/expr/semantics.hpp"
@@ -144,34 +145,47 @@ namespace frep {
 HWY_EXPORT(EvalChunk);
 HWY_EXPORT(TargetNameHere);
 
-BatchEvaluator::BatchEvaluator() = default;
-BatchEvaluator::~BatchEvaluator() { std::free(regs_); }
-
 const char* BatchEvaluator::target_name() { return HWY_DYNAMIC_DISPATCH(TargetNameHere)(); }
 
-void BatchEvaluator::eval(const Tape& tape, const float* xs, const float* ys, const float* zs, float* out,
-                          std::size_t n) {
-  const auto& code = tape.code();
-  FREP_ASSERT(!code.empty(), "tape has no register code (simplified without registers)");
-  // Size the scratch for this tape; a small batch uses a short stride to stay in cache.
-  constexpr std::size_t kLanesMax = 16;
-  const std::size_t stride = std::min<std::size_t>(kChunk, (n + kLanesMax - 1) / kLanesMax * kLanesMax);
-  const std::size_t need = tape.num_registers() * stride;
-  if (need > capacity_) {
-    std::free(regs_);
-    regs_ = static_cast<float*>(std::aligned_alloc(64, (need * sizeof(float) + 63) / 64 * 64));
-    if (!regs_) throw std::bad_alloc();
-    capacity_ = need;
-  }
-  auto* fn = HWY_DYNAMIC_DISPATCH(EvalChunk);
-  const float* root = regs_ + tape.root_register() * stride;
-  for (std::size_t base = 0; base < n; base += stride) {
-    const std::size_t m = std::min(stride, n - base);
-    const std::size_t count = (m + kLanesMax - 1) / kLanesMax * kLanesMax;
-    fn(code.data(), code.size(), regs_, stride, xs + base, ys + base, zs + base, m, count, tape.oracles().get());
-    std::memcpy(out + base, root, m * sizeof(float));
-  }
-}
+namespace interp {
+namespace {
 
+class Batch final : public BatchKernel {
+ public:
+  ~Batch() override { std::free(regs_); }
+
+  void eval(const Tape& tape, const float* xs, const float* ys, const float* zs, float* out, std::size_t n) override {
+    const auto& code = tape.code();
+    FREP_ASSERT(!code.empty(), "tape has no register code (simplified without registers)");
+    // Size the scratch for this tape; a small batch uses a short stride to stay in cache.
+    constexpr std::size_t kLanesMax = 16;
+    const std::size_t stride = std::min<std::size_t>(BatchEvaluator::kChunk, (n + kLanesMax - 1) / kLanesMax * kLanesMax);
+    const std::size_t need = tape.num_registers() * stride;
+    if (need > capacity_) {
+      std::free(regs_);
+      regs_ = static_cast<float*>(std::aligned_alloc(64, (need * sizeof(float) + 63) / 64 * 64));
+      if (!regs_) throw std::bad_alloc();
+      capacity_ = need;
+    }
+    auto* fn = HWY_DYNAMIC_DISPATCH(EvalChunk);
+    const float* root = regs_ + tape.root_register() * stride;
+    for (std::size_t base = 0; base < n; base += stride) {
+      const std::size_t m = std::min(stride, n - base);
+      const std::size_t count = (m + kLanesMax - 1) / kLanesMax * kLanesMax;
+      fn(code.data(), code.size(), regs_, stride, xs + base, ys + base, zs + base, m, count, tape.oracles().get());
+      std::memcpy(out + base, root, m * sizeof(float));
+    }
+  }
+
+ private:
+  float* regs_ = nullptr;
+  std::size_t capacity_ = 0;  // floats
+};
+
+}  // namespace
+
+std::unique_ptr<BatchKernel> make_batch_kernel() { return std::make_unique<Batch>(); }
+
+}  // namespace interp
 }  // namespace frep
 #endif  // HWY_ONCE

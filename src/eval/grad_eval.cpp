@@ -14,6 +14,7 @@
 #include <cmath>
 
 #include "frep/error.hpp"
+#include "eval/interp_kernels.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/expr/oracle.hpp"
 #include "frep/expr/semantics.hpp"
@@ -195,8 +196,21 @@ namespace frep {
 HWY_EXPORT(GradOp);
 using grad_detail::partials;
 
-void GradEvaluator::eval(const Tape& tape, const float* xs, const float* ys, const float* zs, Grad* out,
-                         std::size_t n) {
+namespace interp {
+namespace {
+
+class GradKernelImpl final : public GradKernel {
+ public:
+  void eval(const Tape& tape, const float* xs, const float* ys, const float* zs, Grad* out, std::size_t n) override;
+
+ private:
+  std::vector<float> regs_;  // per register: 4 * kChunk floats (v, dx, dy, dz)
+};
+
+constexpr std::size_t kChunk = GradEvaluator::kChunk;
+
+void GradKernelImpl::eval(const Tape& tape, const float* xs, const float* ys, const float* zs, Grad* out,
+                          std::size_t n) {
   const auto& code = tape.code();
   FREP_ASSERT(!code.empty(), "tape has no register code (simplified without registers)");
   const std::size_t stride = 4 * kChunk;
@@ -272,11 +286,11 @@ void GradEvaluator::eval(const Tape& tape, const float* xs, const float* ys, con
   }
 }
 
-Grad GradEvaluator::eval(const Tape& tape, float x, float y, float z) {
-  Grad g;
-  eval(tape, &x, &y, &z, &g, 1);
-  return g;
-}
+}  // namespace
+
+std::unique_ptr<GradKernel> make_grad_kernel() { return std::make_unique<GradKernelImpl>(); }
+
+}  // namespace interp
 
 }  // namespace frep
 #endif  // HWY_ONCE

@@ -21,6 +21,7 @@
 #include "eval/interval_ops.hpp"
 #include "frep/error.hpp"
 #include "eval/tape_builder.hpp"
+#include "eval/interp_kernels.hpp"
 #include "frep/eval/interval_batch.hpp"
 #include "frep/expr/oracle.hpp"
 
@@ -248,7 +249,42 @@ HWY_AFTER_NAMESPACE();
 namespace frep {
 HWY_EXPORT(EvalBoxes);
 
-IntervalBatchEvaluator::IntervalBatchEvaluator() = default;
+namespace interp {
+namespace {
+
+class IntervalBatch final : public IntervalBatchKernel {
+ public:
+  void eval(const Tape& tape, const float* box, int count, std::uint32_t fold_lanes, IntervalRecord& rec) override {
+    constexpr int kLanes = IntervalRecord::kLanes;
+    const std::size_t regs = std::max<std::size_t>(tape.num_registers(), 1);
+    grow_scratch(regs_, 2 * regs * kLanes);
+    float* const lo = regs_.data();
+    float* const hi = lo + regs * kLanes;
+    const std::size_t n = tape.code().size();
+    grow_scratch(rec.left, n);
+    grow_scratch(rec.right, n);
+    grow_scratch(rec.fold, n);
+    grow_scratch(rec.mins, static_cast<std::size_t>(tape.choice_count()) * 4 * kLanes);
+    rec.folds.clear();
+    rec.mins_count = HWY_DYNAMIC_DISPATCH(EvalBoxes)(tape.code().data(), n, lo, hi, rec.left.data(), rec.right.data(),
+                                                     rec.fold.data(), rec.mins.data(), rec.folds, fold_lanes, box, count,
+                                                     tape.oracles().get());
+    const std::size_t root = static_cast<std::size_t>(tape.root_register()) * kLanes;
+    std::copy(lo + root, lo + root + kLanes, rec.result_lo);
+    std::copy(hi + root, hi + root + kLanes, rec.result_hi);
+  }
+
+ private:
+  LargeVector<float> regs_;  // [register][lane] lower bounds, then upper bounds
+};
+
+}  // namespace
+
+std::unique_ptr<IntervalBatchKernel> make_interval_batch_kernel() { return std::make_unique<IntervalBatch>(); }
+
+}  // namespace interp
+
+IntervalBatchEvaluator::IntervalBatchEvaluator(const Backend& backend) : kernel_(backend.interval_batch()) {}
 IntervalBatchEvaluator::~IntervalBatchEvaluator() = default;
 
 void IntervalBatchEvaluator::eval(const Tape& tape, const Interval* x, const Interval* y, const Interval* z,
@@ -257,17 +293,7 @@ void IntervalBatchEvaluator::eval(const Tape& tape, const Interval* x, const Int
   FREP_ASSERT(simplified >= 0 && simplified <= kLanes, "at most 16 boxes to simplify");
   FREP_ASSERT(tape.size() > 0, "empty tape");
   FREP_ASSERT(!tape.code().empty(), "interval batches run register code");
-  const std::size_t regs = std::max<std::size_t>(tape.num_registers(), 1);
-  grow_scratch(regs_, 2 * regs * kLanes);
-  float* const lo = regs_.data();
-  float* const hi = lo + regs * kLanes;
-  const std::size_t n = tape.code().size();
-  grow_scratch(left_, n);
-  grow_scratch(right_, n);
-  grow_scratch(fold_, n);
-  code_size_ = n;
-  grow_scratch(mins_, static_cast<std::size_t>(tape.choice_count()) * 4 * kLanes);
-  folds_.clear();
+  code_size_ = tape.code().size();
   size_ = tape.size();
   simplified_ = simplified;
   // Box bounds as six rows of 16 lanes; unused lanes repeat box 0.
@@ -281,12 +307,7 @@ void IntervalBatchEvaluator::eval(const Tape& tape, const Interval* x, const Int
     box[4 * kLanes + k] = z[s].lo;
     box[5 * kLanes + k] = z[s].hi;
   }
-  mins_count_ = HWY_DYNAMIC_DISPATCH(EvalBoxes)(tape.code().data(), n, lo, hi, left_.data(), right_.data(),
-                                               fold_.data(), mins_.data(), folds_, (1u << simplified) - 1, box, count,
-                                               tape.oracles().get());
-  const std::size_t root = static_cast<std::size_t>(tape.root_register()) * kLanes;
-  std::copy(lo + root, lo + root + kLanes, result_lo_);
-  std::copy(hi + root, hi + root + kLanes, result_hi_);
+  kernel_->eval(tape, box, count, (1u << simplified) - 1, record_);
 }
 
 std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t lanes, Tape* outs, double max_kept,
@@ -343,7 +364,7 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
     }
   };
   std::size_t kc = tape.code().size();
-  const float* mins = mins_.data() + mins_count_ * 4 * kLanes;
+  const float* mins = record_.mins.data() + record_.mins_count * 4 * kLanes;
   for (std::size_t i = n; i-- > 0;) {
     const SsaInstr& ins = in[i];
     const std::uint32_t m = live[i];
@@ -352,15 +373,15 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
       continue;
     }
     --kc;
-    if (ins.op == Op::Min && caps::min_bounds_recorded(left_[kc], right_[kc], simplifiable)) mins -= 4 * kLanes;
+    if (ins.op == Op::Min && caps::min_bounds_recorded(record_.left[kc], record_.right[kc], simplifiable)) mins -= 4 * kLanes;
     if (!m) continue;
     for (std::uint32_t bits = m; bits; bits &= bits - 1) ++kept[__builtin_ctz(bits)];
     const int ar = op_arity(ins.op);
     if (ar == 0) continue;
-    const std::uint32_t rest = m & ~static_cast<std::uint32_t>(fold_[kc]);
+    const std::uint32_t rest = m & ~static_cast<std::uint32_t>(record_.fold[kc]);
     if (ins.op == Op::Min || ins.op == Op::Max) {
       const std::size_t o = choice_ordinal(ins);
-      std::uint32_t l = rest & left_[kc], r = rest & right_[kc], both = rest & ~(l | r);
+      std::uint32_t l = rest & record_.left[kc], r = rest & record_.right[kc], both = rest & ~(l | r);
       if (ins.op == Op::Min) {
         const float* ci = caps + o * kLanes;
         for (std::uint32_t bits = both; bits; bits &= bits - 1) {
@@ -387,7 +408,7 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
       sides_[2 * o + 1] = static_cast<std::uint16_t>(r);
     } else if (op_is_choice(ins.op)) {
       const std::size_t o = choice_ordinal(ins);
-      const std::uint32_t l = rest & left_[kc], r = rest & right_[kc], both = rest & ~(l | r);
+      const std::uint32_t l = rest & record_.left[kc], r = rest & record_.right[kc], both = rest & ~(l | r);
       use_uncapped(ins.a, l | both);
       use_uncapped(ins.b, r | both);
       sides_[2 * o] = static_cast<std::uint16_t>(l);
@@ -412,7 +433,7 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
     builders[k].emplace(outs[k], n, true, kept[k], remap_.data() + slot, static_cast<std::size_t>(width));
     if (!leaves) builders[k]->trivial_registers_up_to(kMaxTrivialIntervalRegisters);
   }
-  const float* folds = folds_.data();
+  const float* folds = record_.folds.data();
   kc = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const SsaInstr& ins = in[i];
@@ -422,7 +443,7 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
       continue;
     }
     const std::size_t k_code = kc++;
-    const std::uint32_t fb = fold_[k_code];
+    const std::uint32_t fb = record_.fold[k_code];
     const float* fold_values = folds;
     if (fb) folds += kLanes;
     if (!m) continue;

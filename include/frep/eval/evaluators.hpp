@@ -4,8 +4,10 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
+#include "frep/eval/backend.hpp"
 #include "frep/eval/grad.hpp"
 #include "frep/eval/interval.hpp"
 #include "frep/eval/tape.hpp"
@@ -21,24 +23,23 @@ class PointEvaluator {
   std::vector<float> regs_;
 };
 
-// Many points at once with SIMD (AVX-512, AVX2 or SSE4, chosen at run time).
+// Many points at once with SIMD (AVX-512, AVX2 or SSE4, chosen at run time), run by a backend
+// (backend.hpp: the interpreter unless another is chosen).
 class BatchEvaluator {
  public:
-  BatchEvaluator();
-  ~BatchEvaluator();
-  BatchEvaluator(const BatchEvaluator&) = delete;
-  BatchEvaluator& operator=(const BatchEvaluator&) = delete;
+  explicit BatchEvaluator(const Backend& backend = default_backend()) : kernel_(backend.batch()) {}
 
   // out[i] = f(xs[i], ys[i], zs[i]) for i < n. Bit-identical to PointEvaluator.
-  void eval(const Tape& tape, const float* xs, const float* ys, const float* zs, float* out, std::size_t n);
+  void eval(const Tape& tape, const float* xs, const float* ys, const float* zs, float* out, std::size_t n) {
+    kernel_->eval(tape, xs, ys, zs, out, n);
+  }
   // Name of the instruction set chosen on this CPU, e.g. "AVX2".
   static const char* target_name();
-  // Points evaluated per pass over the tape.
+  // Points the interpreter evaluates per pass over the tape.
   static constexpr std::size_t kChunk = 256;
 
  private:
-  float* regs_ = nullptr;
-  std::size_t capacity_ = 0;  // floats
+  std::unique_ptr<BatchKernel> kernel_;
 };
 
 // Intervals: evaluates over a box and records, for every instruction, its interval and (for
@@ -62,12 +63,20 @@ class IntervalEvaluator {
 // on a distance-to-edge curve); floor/ceil/round/compare/not have gradient 0.
 class GradEvaluator {
  public:
-  void eval(const Tape& tape, const float* xs, const float* ys, const float* zs, Grad* out, std::size_t n);
-  Grad eval(const Tape& tape, float x, float y, float z);
+  explicit GradEvaluator(const Backend& backend = default_backend()) : kernel_(backend.grad()) {}
+  void eval(const Tape& tape, const float* xs, const float* ys, const float* zs, Grad* out, std::size_t n) {
+    kernel_->eval(tape, xs, ys, zs, out, n);
+  }
+  Grad eval(const Tape& tape, float x, float y, float z) {
+    Grad g;
+    kernel_->eval(tape, &x, &y, &z, &g, 1);
+    return g;
+  }
+  // Points the interpreter evaluates per pass over the tape.
   static constexpr std::size_t kChunk = 64;
 
  private:
-  std::vector<float> regs_;  // per register: 4 * kChunk floats (v, dx, dy, dz)
+  std::unique_ptr<GradKernel> kernel_;
 };
 
 }  // namespace frep

@@ -6,8 +6,10 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "frep/eval/backend.hpp"
 #include "frep/eval/interval.hpp"
 #include "frep/eval/tape.hpp"
 #include "frep/util/large_allocator.hpp"
@@ -16,9 +18,10 @@ namespace frep {
 
 class IntervalBatchEvaluator {
  public:
-  static constexpr int kLanes = 16;
+  static constexpr int kLanes = IntervalRecord::kLanes;
 
-  IntervalBatchEvaluator();
+  // The interval pass runs on `backend` (backend.hpp); simplification is the same for all.
+  explicit IntervalBatchEvaluator(const Backend& backend = default_backend());
   ~IntervalBatchEvaluator();
   IntervalBatchEvaluator(const IntervalBatchEvaluator&) = delete;
   IntervalBatchEvaluator& operator=(const IntervalBatchEvaluator&) = delete;
@@ -30,7 +33,7 @@ class IntervalBatchEvaluator {
             int simplified = kLanes);
 
   // The root's interval over box `lane` of the last eval.
-  Interval result(int lane) const { return {result_lo_[lane], result_hi_[lane]}; }
+  Interval result(int lane) const { return {record_.result_lo[lane], record_.result_hi[lane]}; }
 
   // Simplifies the last evaluated tape for every box whose bit is set in `lanes` (among the
   // first `simplified` of the last eval), writing
@@ -42,18 +45,14 @@ class IntervalBatchEvaluator {
   std::uint32_t simplify(const Tape& tape, std::uint32_t lanes, Tape* outs, double max_kept = 1.0, bool leaves = true);
 
  private:
-  // The evaluation runs on registers, so its memory is the register file's, not the tape's:
-  // what simplification needs later is recorded on the way (choices, folded values, the
-  // arguments of every min for caps).
-  std::size_t size_ = 0;                           // SSA instructions of the last evaluated tape
-  std::size_t code_size_ = 0;                      // and its register instructions
-  int simplified_ = 0;                             // boxes of the last eval that simplify may take
-  LargeVector<float> regs_;                        // [register][lane] lower bounds, then upper bounds
-  LargeVector<std::uint16_t> left_, right_, fold_;  // per register instruction: lane bit masks
-  LargeVector<float> mins_;                        // per min: its arguments' bounds (alo, ahi, blo, bhi x 16 lanes)
-  std::size_t mins_count_ = 0;
-  LargeVector<float> folds_;                       // per instruction with folded lanes: its 16 values
-  float result_lo_[kLanes] = {}, result_hi_[kLanes] = {};
+  // The evaluation runs on registers (the kernel's), so its memory is the register file's, not
+  // the tape's: what simplification needs later is recorded on the way (choices, folded values,
+  // the arguments of every min for caps).
+  std::unique_ptr<IntervalBatchKernel> kernel_;
+  IntervalRecord record_;
+  std::size_t size_ = 0;       // SSA instructions of the last evaluated tape
+  std::size_t code_size_ = 0;  // and its register instructions
+  int simplified_ = 0;         // boxes of the last eval that simplify may take
   // Scratch for simplify.
   LargeVector<std::uint16_t> live_, fin_;  // per SSA instruction: boxes needing it, boxes where it has a cap
   LargeVector<std::uint16_t> sides_;       // per choice: boxes keeping only a, only b
