@@ -7,9 +7,9 @@ pkgs=(build-essential cmake ninja-build pkg-config
       libcgal-dev   # CGAL: only the baseline of bench/bench_mesh_distance (header-only)
       tetgen        # frep convert --sign tets runs the separate tetgen program (AGPL: never linked)
       python3 python3-numpy  # scripts/make_example_mesh.py; tests check that numpy reads frep's .npy
-      glslang-tools)  # tests validate the GLSL export with glslangValidator
-# Optional: texlive-latex-base (the LaTeX export test compiles with pdflatex where present, else
-# checks the syntax); libopenvdb-dev (the OpenVDB baselines of the sampling and meshing benchmarks).
+      glslang-tools        # tests validate the GLSL export with glslangValidator
+      texlive-latex-base)  # pdflatex: tests compile the LaTeX export's documents (article, amsmath, geometry)
+# Optional: libopenvdb-dev (the OpenVDB baselines of the sampling and meshing benchmarks).
 # Optional, for the fuzz build (-DFREP_BUILD_FUZZ=ON, see fuzz/CMakeLists.txt): clang-14 libclang-rt-14-dev
 missing=()
 for p in "${pkgs[@]}"; do

@@ -27,12 +27,14 @@ void register_export(CLI::App& app) {
       "  c          float frep_sdf(float x, float y, float z), C99 + <math.h>, frep's f32 semantics\n"
       "  latex      a document (or --fragment) with the expression as mathematics\n"
       "Without --format, the extension of -o decides: .glsl/.frag, .c/.h, .tex.\n"
+      "Meshes (and expressions holding them) are written as data plus a loop in C and GLSL; --closed-form\n"
+      "writes their closed form instead (~75 nodes per triangle; LaTeX always does).\n"
       "Details: docs/export.md.");
   struct Args {
     std::string file, output, format, name;
     LatexOptions latex;
     ShadertoyOptions shadertoy;
-    bool fragment = false, quiet = false;
+    bool fragment = false, quiet = false, closed_form = false;
     int nan_checks = -1;  // -1: the format's default
   };
   auto a = std::make_shared<Args>();
@@ -65,6 +67,9 @@ void register_export(CLI::App& app) {
   cmd->add_flag_callback("--no-nan-checks", [a] { a->nan_checks = 0; },
                          "glsl, shadertoy: GLSL's min/max instead: frep's values except for NaN, and large "
                          "shaders compile about 3 times faster (default for shadertoy)");
+  cmd->add_flag("--closed-form", a->closed_form,
+                "glsl, shadertoy, c: meshes as their closed-form expression (~75 nodes per triangle) instead of "
+                "triangle data plus a loop (latex: always)");
   cmd->add_flag("--quiet,-q", a->quiet, "Do not print what was written");
   cmd->callback([a] {
     std::string format = a->format;
@@ -86,17 +91,20 @@ void register_export(CLI::App& app) {
       if (format == "c") {
         CExportOptions opt;
         opt.source = source;
+        opt.closed_form = a->closed_form;
         if (!a->name.empty()) opt.function_name = a->name;
         write_c(out, *m.graph, m.root, opt);
       } else if (format == "glsl") {
         GlslOptions opt;
         opt.source = source;
+        opt.closed_form = a->closed_form;
         if (!a->name.empty()) opt.function_name = a->name;
         if (a->nan_checks >= 0) opt.nan_checks = a->nan_checks == 1;
         write_glsl(out, *m.graph, m.root, opt);
       } else if (format == "shadertoy") {
         ShadertoyOptions opt = a->shadertoy;
         opt.glsl.source = source;
+        opt.glsl.closed_form = a->closed_form;
         if (!a->name.empty()) opt.glsl.function_name = a->name;
         if (a->nan_checks >= 0) opt.glsl.nan_checks = a->nan_checks == 1;
         write_shadertoy(out, *m.graph, m.root, opt);
@@ -122,7 +130,16 @@ void register_export(CLI::App& app) {
     if (a->output != "-") check_output(a->output, {a->file});
     const Model m = load_input(a->file, a->quiet);
     const std::string source = std::filesystem::path(a->file).filename().string();
-    auto produce = [&](std::ostream& out) { write(out, m, source); };
+    auto produce = [&](std::ostream& out) {
+      try {
+        write(out, m, source);
+      } catch (const InputError& e) {
+        // The exporters' own input errors (meshes too big for GLSL's constant arrays) concern
+        // the input file.
+        if (!e.file().empty()) throw;
+        throw InputError(a->file, 0, e.detail());
+      }
+    };
     if (a->output == "-") {
       produce(std::cout);
       std::cout.flush();

@@ -30,9 +30,10 @@ std::string wrap(Ref& r, Prec need) {
 
 }  // namespace
 
-std::uint32_t ops_present(const Graph& g, const std::vector<NodeId>& order) {
-  std::uint32_t bits = 0;
-  for (NodeId id : order) bits |= 1u << static_cast<unsigned>(g.node(id).op);
+std::uint64_t ops_present(const Graph& g, const std::vector<NodeId>& order) {
+  static_assert(kEngineOpCount <= 64, "one bit per opcode");
+  std::uint64_t bits = 0;
+  for (NodeId id : order) bits |= std::uint64_t{1} << static_cast<unsigned>(g.node(id).op);
   return bits;
 }
 
@@ -66,6 +67,10 @@ std::size_t emit_c_like_body(std::ostream& out, const Graph& g, NodeId root, con
         r.prec = r.text[0] == '-' ? kUnary : kPrimary;
         refs[id] = std::move(r);
         continue;
+      case Op::Oracle:  // a call: a local if used more than once, like any other call
+        FREP_ASSERT(d.oracle, "an oracle in an expression the exporter has no code for");
+        r.text = d.oracle(oracle_index(n.value));
+        break;
       case Op::Add:
       case Op::Sub:
       case Op::Mul:

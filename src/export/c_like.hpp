@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <ostream>
 #include <string>
 #include <string_view>
@@ -23,10 +24,14 @@ struct CLikeDialect {
   // The function called for each call-style opcode (abs, sqrt, min, ...), and for Square when
   // its argument is not a plain name. Add/Sub/Mul/Div/Neg/Recip are written with operators.
   std::array<std::string_view, kOpCount> call;
+  // The text of an Op::Oracle node, by its index in the graph's oracles (a call of the code the
+  // exporter wrote for it). Unset: the expression must hold no oracles.
+  std::function<std::string(std::uint32_t)> oracle;
 };
 
-// Bit i set when opcode i occurs in `order` (for emitting only the helpers that are needed).
-std::uint32_t ops_present(const Graph& g, const std::vector<NodeId>& order);
+// Bit i set when opcode i occurs in `order` (for emitting only the helpers that are needed);
+// 64 bits, since the engine's Op::Oracle is opcode 32.
+std::uint64_t ops_present(const Graph& g, const std::vector<NodeId>& order);
 
 // Writes the body of a function returning the value of `root`: one local per shared or long
 // subexpression, then `return ...;`. Each line is indented by `indent`. Iterative and linear in

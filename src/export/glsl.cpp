@@ -5,9 +5,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 
 #include "export/c_like.hpp"
 #include "export/export_util.hpp"
+#include "export/mesh_code.hpp"
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/eval/tape.hpp"
@@ -105,17 +107,45 @@ void check_name(const std::string& name) {
                          "' is not a GLSL identifier, or is reserved (p, gl_*, __, a keyword or type, a built-in function, or frep_*)");
 }
 
-// The helpers and the function; returns the number of reachable nodes.
+// The helpers, the meshes' data and code, and the function; returns the number of reachable nodes.
 std::size_t write_function(std::ostream& out, const Graph& g, NodeId root, const GlslOptions& opt,
-                           const std::vector<NodeId>& order) {
+                           const std::vector<NodeId>& order, const export_detail::MeshTables& meshes) {
   const std::string& name = opt.function_name;
-  const std::uint32_t ops = export_detail::ops_present(g, order);
+  const std::uint64_t ops = export_detail::ops_present(g, order);
   for (const Helper& h : kHelpers)
-    if (opt.helpers && (ops & (1u << static_cast<unsigned>(h.op)))) out << helper_text(h, opt.nan_checks);
+    if (opt.helpers && (ops & (std::uint64_t{1} << static_cast<unsigned>(h.op)))) out << helper_text(h, opt.nan_checks);
+  const std::string prefix = name + "_";
+  if (!meshes.empty()) export_detail::write_glsl_meshes(out, prefix, meshes);
   out << "\nfloat " << name << "(vec3 p) {\n";
-  export_detail::emit_c_like_body(out, g, root, order, glsl_dialect(), "  ");
+  CLikeDialect dialect = glsl_dialect();
+  dialect.oracle = [&](std::uint32_t i) { return prefix + "oracle" + std::to_string(i) + "(p)"; };
+  export_detail::emit_c_like_body(out, g, root, order, dialect, "  ");
   out << "}\n";
   return order.size();
+}
+
+// Oracles for the data form: the closed form of everything on request, of the oracles that are
+// not meshes otherwise (the data form knows only meshes). Null if `g` can be written as it is.
+std::unique_ptr<Model> prepare_oracles(const Graph& g, NodeId root, bool closed_form) {
+  if (!has_oracles(g, root)) return nullptr;
+  if (closed_form) return std::make_unique<Model>(expand_oracles(g, root));
+  if (export_detail::only_mesh_oracles(g, reachable_nodes(g, root))) return nullptr;
+  return std::make_unique<Model>(export_detail::expand_other_oracles(g, root));
+}
+
+// The meshes' tables, checked for the GLSL data form (before anything is written).
+export_detail::MeshTables glsl_mesh_tables(const Graph& g, const std::vector<NodeId>& order) {
+  export_detail::MeshTables meshes = export_detail::mesh_tables(g, order);
+  if (!meshes.empty()) export_detail::check_glsl_meshes(meshes);
+  return meshes;
+}
+
+// What the opening comment says about the meshes, if there are any.
+void write_mesh_note(std::ostream& out, const export_detail::MeshTables& meshes) {
+  if (meshes.empty()) return;
+  out << "// Mesh oracles (" << export_detail::mesh_summary(meshes)
+      << ") are constant arrays plus a loop, in float:\n"
+         "// their signed distance within about 1e-7 of the mesh's size plus its coordinates.\n";
 }
 
 void write_header(std::ostream& out, const std::string& what, const std::string& source, std::size_t nodes) {
@@ -238,18 +268,17 @@ float auto_step_scale(const Graph& g, NodeId root, float radius, float* p99_out)
 }  // namespace
 
 void write_glsl(std::ostream& out, const Graph& g, NodeId root, const GlslOptions& opt) {
-  if (has_oracles(g, root)) {
-    const Model m = expand_oracles(g, root);
-    return write_glsl(out, *m.graph, m.root, opt);
-  }
+  if (const auto m = prepare_oracles(g, root, opt.closed_form)) return write_glsl(out, *m->graph, m->root, opt);
   check_name(opt.function_name);
   const std::vector<NodeId> order = reachable_nodes(g, root);
+  const export_detail::MeshTables meshes = glsl_mesh_tables(g, order);
   write_header(out, "GLSL", opt.source, order.size());
   out << "// float " << opt.function_name
       << "(vec3 p): the expression's value at p, negative inside. Needs GLSL 3.30 or GLSL ES 3.00.\n"
          "// frep's semantics on IEEE-754 hardware except mod (within rounding)"
       << (opt.nan_checks ? "" : " and NaN in min/max/compare") << "; see frep's docs/export.md.\n";
-  write_function(out, g, root, opt, order);
+  write_mesh_note(out, meshes);
+  write_function(out, g, root, opt, order, meshes);
 }
 
 void write_glsl_helpers(std::ostream& out, bool nan_checks) {
@@ -257,10 +286,7 @@ void write_glsl_helpers(std::ostream& out, bool nan_checks) {
 }
 
 void write_shadertoy(std::ostream& out, const Graph& g, NodeId root, const ShadertoyOptions& opt) {
-  if (has_oracles(g, root)) {
-    const Model m = expand_oracles(g, root);
-    return write_shadertoy(out, *m.graph, m.root, opt);
-  }
+  if (const auto m = prepare_oracles(g, root, opt.glsl.closed_form)) return write_shadertoy(out, *m->graph, m->root, opt);
   check_name(opt.glsl.function_name);
   if (!(opt.radius > 0 && std::isfinite(opt.radius)))
     throw InputError("", 0, "the Shadertoy radius must be a finite number > 0");
@@ -270,12 +296,14 @@ void write_shadertoy(std::ostream& out, const Graph& g, NodeId root, const Shade
   if (!(opt.slab > 0 && std::isfinite(opt.slab)))
     throw InputError("", 0, "the Shadertoy slab thickness must be a finite number > 0");
   const std::vector<NodeId> order = reachable_nodes(g, root);
-  bool uses_z = false;
+  const export_detail::MeshTables meshes = glsl_mesh_tables(g, order);
+  bool uses_z = !meshes.empty();  // meshes are solids
   for (NodeId id : order) uses_z |= g.node(id).op == Op::VarZ;
   write_header(out, "Shadertoy fragment shader", opt.glsl.source, order.size());
   out << "// Paste into the Image tab of a new shader on shadertoy.com. Sphere-traces the expression in\n"
          "// the cube [-FREP_RADIUS, FREP_RADIUS]^3 (the surface is where it is zero, negative inside).\n";
   if (!uses_z) out << "// The expression does not use z: it is shown as a slab of thickness 2 * FREP_SLAB.\n";
+  write_mesh_note(out, meshes);
   float step = opt.step_scale, p99 = 0;
   std::string why = "  // set by hand";
   if (step == 0) {
@@ -289,7 +317,7 @@ void write_shadertoy(std::ostream& out, const Graph& g, NodeId root, const Shade
   if (!uses_z) out << "#define FREP_SLAB " << glsl_literal(opt.slab * opt.radius) << "\n";
   // A 2D shape rocks back and forth; a 3D one turns all the way round.
   out << "#define FREP_AUTO_YAW " << (uses_z ? "(0.3 * iTime)" : "(0.6 * sin(0.3 * iTime))") << "\n\n";
-  write_function(out, g, root, opt.glsl, order);
+  write_function(out, g, root, opt.glsl, order, meshes);
   out << "\nfloat frep_scene(vec3 p) { return ";
   if (uses_z) out << opt.glsl.function_name << "(p); }\n";
   else out << "max(" << opt.glsl.function_name << "(p), abs(p.z) - FREP_SLAB); }\n";

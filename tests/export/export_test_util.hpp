@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -157,6 +158,37 @@ inline int count_mismatches(const Graph& g, const std::vector<NodeId>& roots, co
                       << fstr(xyz[3 * i + 2]) << "): exported " << fstr(got) << ", frep " << fstr(want);
     }
   return bad;
+}
+
+// GLSL text made C++: float literals (1.5, 2e-3) get an f suffix, since C++ would compute them
+// in double; integers and names are left alone.
+inline std::string suffix_float_literals(const std::string& s) {
+  std::string out;
+  auto ident = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.'; };
+  for (std::size_t i = 0; i < s.size();) {
+    if (std::isdigit(static_cast<unsigned char>(s[i])) && (i == 0 || !ident(s[i - 1]))) {
+      std::size_t j = i;
+      bool is_float = false;
+      while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) ++j;
+      if (j < s.size() && s[j] == '.') {
+        is_float = true;
+        ++j;
+        while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) ++j;
+      }
+      if (j < s.size() && s[j] == 'e') {
+        is_float = true;
+        ++j;
+        if (j < s.size() && (s[j] == '+' || s[j] == '-')) ++j;
+        while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) ++j;
+      }
+      out.append(s, i, j - i);
+      if (is_float) out += 'f';
+      i = j;
+    } else {
+      out += s[i++];
+    }
+  }
+  return out;
 }
 
 }  // namespace frep::test

@@ -55,37 +55,8 @@ void expect_valid_glsl(const ScratchDir& dir, const std::string& name, const std
 }
 
 // ---------------------------------------------------------------------------------------------
-// GLSL as C++: float literals get an f suffix (C++ would compute in double), and the GLSL
-// built-ins the exporter uses map to <cmath> in f32.
-
-std::string suffix_float_literals(const std::string& s) {
-  std::string out;
-  auto ident = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.'; };
-  for (std::size_t i = 0; i < s.size();) {
-    if (std::isdigit(static_cast<unsigned char>(s[i])) && (i == 0 || !ident(s[i - 1]))) {
-      std::size_t j = i;
-      bool is_float = false;
-      while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) ++j;
-      if (j < s.size() && s[j] == '.') {
-        is_float = true;
-        ++j;
-        while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) ++j;
-      }
-      if (j < s.size() && s[j] == 'e') {
-        is_float = true;
-        ++j;
-        if (j < s.size() && (s[j] == '+' || s[j] == '-')) ++j;
-        while (j < s.size() && std::isdigit(static_cast<unsigned char>(s[j]))) ++j;
-      }
-      out.append(s, i, j - i);
-      if (is_float) out += 'f';
-      i = j;
-    } else {
-      out += s[i++];
-    }
-  }
-  return out;
-}
+// GLSL as C++: float literals get an f suffix (suffix_float_literals), and the GLSL built-ins
+// the exporter uses map to <cmath> in f32.
 
 constexpr const char* kShim = R"(#include <cmath>
 #include <cstdint>

@@ -21,6 +21,8 @@ struct GlslOptions {
   // they use GLSL's min and max, which give frep's result for every other input (ties between
   // +0 and -0 included) and compile about 3 times faster on large expressions.
   bool nan_checks = true;
+  // Mesh oracles as their closed form (~75 nodes per triangle) instead of data plus a loop.
+  bool closed_form = false;
 };
 
 // Writes every frep_* helper function (frep's semantics of min, max, compare, mod, round, and,
@@ -33,13 +35,18 @@ void write_glsl_helpers(std::ostream& out, bool nan_checks = true);
 // implementation the result equals frep's f32 evaluator except `mod`, which GLSL cannot do
 // exactly (see docs/export.md); GPUs may flush denormals, skip NaN and compute sin, exp, ... with
 // less precision. Iterative: fine for million-node inputs, but GPU compilers are not.
-// Throws InputError if the function name is not a valid identifier.
+// Mesh oracles (moved or not) are written once per mesh as constant arrays (vertices, triangles,
+// a bounding-box hierarchy, pseudonormals) with a function that walks the hierarchy in float;
+// opt.closed_form writes their closed form instead. Other oracles are written as closed forms.
+// Throws InputError if the function name is not a valid identifier, or if the meshes are too big
+// for constant arrays (more than 64 KB, about 1,900 triangles: GPU compilers choke on more) or
+// beyond float's range.
 void write_glsl(std::ostream& out, const Graph& g, NodeId root, const GlslOptions& opt = {});
 
 struct ShadertoyOptions {
   // Without NaN checks by default: a picture does not need them, and the shader compiles faster.
   ShadertoyOptions() { glsl.nan_checks = false; }
-  GlslOptions glsl;
+  GlslOptions glsl;  // the function (name, NaN checks, closed_form for meshes)
   // The shape is assumed to lie in the cube [-radius, radius]^3: rays are marched inside it and
   // the camera frames it. Fidget's models live in [-1, 1]^3.
   float radius = 1.0f;
