@@ -115,6 +115,15 @@ void MeshOracle::bounds(const Interval* x, const Interval* y, const Interval* z,
   }
 }
 
+std::optional<Oracle::RayHit> MeshOracle::first_hit(const Vec3& o, const Vec3& dir, double t_max) const {
+  const MeshDistance& d = field_.distance();
+  const auto h = d.first_hit(o, dir, t_max);
+  if (!h) return std::nullopt;
+  const Vec3 n = d.pseudonormal(ClosestPoint{0, o + dir * h->t, h->triangle, Feature::Face});
+  const double l = length(n);
+  return RayHit{h->t, l > 0 ? n / l : Vec3{}};
+}
+
 std::string MeshOracle::describe() const {
   return "mesh " + (name_.empty() ? std::string("(unnamed)") : name_) + " (" +
          thousands(field_.distance().num_triangles()) + " triangles)";

@@ -48,6 +48,8 @@ void Oracle::bounds(const Interval* x, const Interval* y, const Interval* z, Int
   }
 }
 
+std::optional<Oracle::RayHit> Oracle::first_hit(const Vec3&, const Vec3&, double) const { return std::nullopt; }
+
 std::shared_ptr<const Oracle> Oracle::transformed(const Affine3& a) const {
   if (a.is_identity()) return shared_from_this();
   return std::make_shared<TransformedOracle>(shared_from_this(), a);
@@ -148,6 +150,20 @@ std::string TransformedOracle::describe() const {
 NodeId TransformedOracle::closed_form(Graph& g) const {
   const NodeId f = base_->closed_form(g);
   return remap(g, f, affine_row(g, map_, 0), affine_row(g, map_, 1), affine_row(g, map_, 2));
+}
+
+std::optional<Oracle::RayHit> TransformedOracle::first_hit(const Vec3& o, const Vec3& dir, double t_max) const {
+  // a(o + t dir) = a(o) + t M dir: the same t along the mapped ray.
+  const Vec3 mo = map_.apply(o);
+  const Vec3 md = map_.apply(dir) - map_.apply({0, 0, 0});
+  std::optional<RayHit> h = base_->first_hit(mo, md, t_max);
+  if (h) {
+    // The gradient of f(a(p)) is M^T times the base's.
+    const Vec3 n = map_.apply_transposed(h->normal);
+    const double l = length(n);
+    h->normal = l > 0 ? n / l : Vec3{};
+  }
+  return h;
 }
 
 std::shared_ptr<const Oracle> TransformedOracle::transformed(const Affine3& a) const {

@@ -304,6 +304,14 @@ MeshDistance::~MeshDistance() = default;
 
 std::size_t MeshDistance::num_triangles() const { return d_->tri.size(); }
 
+std::optional<MeshDistance::RayHit> MeshDistance::first_hit(const Vec3& o, const Vec3& dir, double t_max) const {
+  if (!std::isfinite(o.x + o.y + o.z + dir.x + dir.y + dir.z) || !(t_max >= 0)) return std::nullopt;
+  double t = t_max;
+  const std::uint32_t i = mesh_detail::first_hit(d_->wide.data(), d_->packets.data(), o, dir, t);
+  if (i >= d_->tri.size()) return std::nullopt;
+  return RayHit{t, d_->tri_id[i]};
+}
+
 namespace {
 // Queries whose squared distances stay finite (meshes are limited to 1e100, check_range).
 // Beyond, including infinities and NaN, every answer is NaN: the searches would compare

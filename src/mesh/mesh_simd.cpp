@@ -125,6 +125,94 @@ std::uint32_t NearestTriangle(const WideNode* nodes, const TriPacket* packets, c
   return best_tri;
 }
 
+// The nearest triangle a ray o + t d meets with t in [0, t_max] (Moller-Trumbore, double, the
+// barycentric tests widened by 1e-12 so that a ray through an edge meets one of its triangles at
+// least); ties go to the smallest index. `t_max` receives the hit's t.
+std::uint32_t FirstHit(const WideNode* nodes, const TriPacket* packets, const Vec3& o, const Vec3& dir, double& t_max) {
+  const D d;
+  const std::size_t N = hn::Lanes(d);
+  // Zero direction components become tiny ones (no 0 * inf = NaN in the slab tests).
+  Vec3 dv = dir;
+  for (int a = 0; a < 3; ++a)
+    if (dv[a] == 0) dv[a] = 1e-300;
+  const V ox = hn::Set(d, o.x), oy = hn::Set(d, o.y), oz = hn::Set(d, o.z);
+  const V dx = hn::Set(d, dv.x), dy = hn::Set(d, dv.y), dz = hn::Set(d, dv.z);
+  const V ix = hn::Set(d, 1 / dv.x), iy = hn::Set(d, 1 / dv.y), iz = hn::Set(d, 1 / dv.z);
+  const V zero = hn::Zero(d), eps = hn::Set(d, -1e-12), one_eps = hn::Set(d, 1 + 1e-12);
+  HWY_ALIGN double tn[kWidth], th[kWidth];
+  double best = t_max;
+  std::uint32_t best_tri = UINT32_MAX;
+  struct Entry {
+    std::int32_t child;
+    std::uint32_t packets;
+    double t;
+  };
+  Entry stack[kWidth * 80];
+  int sp = 0;
+  stack[sp++] = {0, 0, 0.0};
+  while (sp > 0) {
+    const Entry e = stack[--sp];
+    if (!(e.t <= best)) continue;
+    if (e.child < 0) {
+      for (std::uint32_t k = 0; k < e.packets; ++k) {
+        const TriPacket& t = packets[~e.child + k];
+        for (std::size_t j = 0; j < kWidth; j += N) {
+          const V ax = hn::Load(d, t.a[0] + j), ay = hn::Load(d, t.a[1] + j), az = hn::Load(d, t.a[2] + j);
+          const V e1x = hn::Sub(hn::Load(d, t.b[0] + j), ax), e1y = hn::Sub(hn::Load(d, t.b[1] + j), ay),
+                  e1z = hn::Sub(hn::Load(d, t.b[2] + j), az);
+          const V e2x = hn::Sub(hn::Load(d, t.c[0] + j), ax), e2y = hn::Sub(hn::Load(d, t.c[1] + j), ay),
+                  e2z = hn::Sub(hn::Load(d, t.c[2] + j), az);
+          // p = d x e2, det = e1 . p
+          const V px = hn::Sub(hn::Mul(dy, e2z), hn::Mul(dz, e2y)), py = hn::Sub(hn::Mul(dz, e2x), hn::Mul(dx, e2z)),
+                  pz = hn::Sub(hn::Mul(dx, e2y), hn::Mul(dy, e2x));
+          const V det = Dot(e1x, e1y, e1z, px, py, pz);
+          const V inv = hn::Div(hn::Set(d, 1.0), det);
+          const V sx = hn::Sub(ox, ax), sy = hn::Sub(oy, ay), sz = hn::Sub(oz, az);
+          const V u = hn::Mul(Dot(sx, sy, sz, px, py, pz), inv);
+          // q = s x e1
+          const V qx = hn::Sub(hn::Mul(sy, e1z), hn::Mul(sz, e1y)), qy = hn::Sub(hn::Mul(sz, e1x), hn::Mul(sx, e1z)),
+                  qz = hn::Sub(hn::Mul(sx, e1y), hn::Mul(sy, e1x));
+          const V v = hn::Mul(Dot(dx, dy, dz, qx, qy, qz), inv);
+          const V tt = hn::Mul(Dot(e2x, e2y, e2z, qx, qy, qz), inv);
+          // Degenerate triangles and rays in their plane give det = 0: inv infinite, u or v NaN or
+          // infinite, and the tests below fail.
+          const auto ok = hn::And(hn::And(hn::Ge(u, eps), hn::Ge(v, eps)),
+                                  hn::And(hn::Le(hn::Add(u, v), one_eps), hn::Ge(tt, zero)));
+          hn::Store(hn::IfThenElse(ok, tt, hn::Set(d, INFINITY)), d, tn + j);
+        }
+        for (int j = 0; j < kWidth; ++j)
+          if (tn[j] != INFINITY && (tn[j] < best || (tn[j] == best && t.tri[j] < best_tri))) best = tn[j], best_tri = t.tri[j];
+      }
+      continue;
+    }
+    const WideNode& n = nodes[e.child];
+    for (std::size_t j = 0; j < kWidth; j += N) {
+      const V t0x = hn::Mul(hn::Sub(hn::Load(d, n.lo[0] + j), ox), ix), t1x = hn::Mul(hn::Sub(hn::Load(d, n.hi[0] + j), ox), ix);
+      const V t0y = hn::Mul(hn::Sub(hn::Load(d, n.lo[1] + j), oy), iy), t1y = hn::Mul(hn::Sub(hn::Load(d, n.hi[1] + j), oy), iy);
+      const V t0z = hn::Mul(hn::Sub(hn::Load(d, n.lo[2] + j), oz), iz), t1z = hn::Mul(hn::Sub(hn::Load(d, n.hi[2] + j), oz), iz);
+      const V near = hn::Max(hn::Max(hn::Min(t0x, t1x), hn::Min(t0y, t1y)), hn::Max(hn::Min(t0z, t1z), zero));
+      const V far = hn::Min(hn::Min(hn::Max(t0x, t1x), hn::Max(t0y, t1y)), hn::Max(t0z, t1z));
+      hn::Store(near, d, tn + j);
+      hn::Store(far, d, th + j);
+    }
+    // Children the ray crosses before the best hit, nearest visited first.
+    int order[kWidth], m = 0;
+    for (int j = 0; j < kWidth; ++j) {
+      if (n.child[j] == 0 && n.packets[j] == 0) continue;  // an empty slot
+      // Boxes are grown a little: the slab test rounds, and a ray along a face must not miss.
+      const double slack = 1e-12 * (std::fabs(tn[j]) + std::fabs(th[j]));
+      if (!(tn[j] <= th[j] + slack) || !(tn[j] <= best)) continue;
+      int k = m++;
+      for (; k > 0 && tn[order[k - 1]] < tn[j]; --k) order[k] = order[k - 1];
+      order[k] = j;
+    }
+    FREP_ASSERT(sp + m <= int(sizeof stack / sizeof stack[0]), "BVH deeper than the ray stack");
+    for (int k = 0; k < m; ++k) stack[sp++] = {n.child[order[k]], n.packets[order[k]], tn[order[k]]};
+  }
+  t_max = best;
+  return best_tri;
+}
+
 // atan2 with the std::atan2 conventions on zeros (signed results, atan2(0, 0) = 0), built on
 // Highway's atan of the octant ratio min/max in [0, 1].
 HWY_INLINE V Atan2(V y, V x) {
@@ -205,6 +293,11 @@ HWY_AFTER_NAMESPACE();
 namespace frep::mesh_detail {
 HWY_EXPORT(NearestTriangle);
 HWY_EXPORT(SolidAngleSum);
+HWY_EXPORT(FirstHit);
+
+std::uint32_t first_hit(const WideNode* nodes, const TriPacket* packets, const Vec3& o, const Vec3& dir, double& t_max) {
+  return HWY_DYNAMIC_DISPATCH(FirstHit)(nodes, packets, o, dir, t_max);
+}
 
 std::uint32_t nearest_triangle(const WideNode* nodes, const TriPacket* packets, const Vec3& p, double& d2) {
   return HWY_DYNAMIC_DISPATCH(NearestTriangle)(nodes, packets, p, d2);

@@ -44,6 +44,10 @@ struct alignas(32) WideDipoles {
 // most of the search); returns UINT32_MAX if there is none.
 std::uint32_t nearest_triangle(const WideNode* nodes, const TriPacket* packets, const Vec3& p, double& d2);
 
+// The triangle a ray o + t dir first meets with t in [0, t_max] (t_max receives its t): its
+// leaf-order index, or UINT32_MAX if none. Ties go to the smallest index.
+std::uint32_t first_hit(const WideNode* nodes, const TriPacket* packets, const Vec3& o, const Vec3& dir, double& t_max);
+
 // Sum of the solid angles of the triangles seen from p (4 pi times the winding number), with
 // the dipole approximation for the children of `nodes` farther than their `far2`.
 double solid_angle_sum(const WideNode* nodes, const WideDipoles* dipoles, const TriPacket* packets, const Vec3& p);

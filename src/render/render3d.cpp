@@ -24,6 +24,7 @@
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/eval/subdivision.hpp"
+#include "frep/expr/oracle.hpp"
 #include "view_tape.hpp"
 
 namespace frep {
@@ -224,8 +225,83 @@ Renderer3D::Renderer3D(Render3DOptions options) : options_(std::move(options)) {
 
 Renderer3D::~Renderer3D() = default;
 
+namespace {
+
+// A model that is one oracle which intersects rays exactly (a mesh, moved or not): each pixel's
+// column is a ray, cut to the bounds, and its first point inside is found exactly instead of by
+// samples. The front of the view volume inside the shape shows as facing the viewer, as the
+// column search shows it; for rotated views, a ray entering the bounds inside the shape shows
+// the face of the bounds it enters through.
+DepthMap render_rays(const Oracle& oracle, const Camera& cam, const Box3& bounds, ThreadPool& pool) {
+  const std::size_t pixels = static_cast<std::size_t>(cam.width) * static_cast<std::size_t>(cam.height);
+  DepthMap out;
+  out.camera = cam;
+  out.depth.assign(pixels, std::numeric_limits<float>::quiet_NaN());
+  out.normal.assign(pixels, Vec3f{0, 0, 0});
+  const std::vector<float> uc = Camera::centers(cam.u_edges()), vc = Camera::centers(cam.v_edges());
+  const std::vector<float> ws = cam.w_samples();
+  const double w0 = ws.front(), length = ws.front() - ws.back();
+  const Vec3 dir = -cam.toward;
+  const Box3 inside = oracle.inside_box();
+  const auto to_view = [&](const Vec3& n) {
+    return Vec3f(Vec3{dot(n, cam.right), dot(n, cam.up), dot(n, cam.toward)});
+  };
+  pool.parallel_for(cam.height, [&](int, int row) {
+    for (int col = 0; col < cam.width; ++col) {
+      const std::size_t p = static_cast<std::size_t>(row) * static_cast<std::size_t>(cam.width) + static_cast<std::size_t>(col);
+      const Vec3 o = cam.to_model(uc[static_cast<std::size_t>(col)], vc[static_cast<std::size_t>(row)], w0);
+      // The part of the ray in the bounds (the view volume is the bounds for axis-aligned views).
+      double t0 = 0, t1 = length;
+      Vec3 entry_normal{0, 0, 1};  // in view coordinates: facing the viewer at the front
+      if (!cam.axis_aligned) {
+        for (int a = 0; a < 3; ++a) {
+          if (dir[a] == 0) {
+            if (o[a] < bounds.lo[a] || o[a] > bounds.hi[a]) t0 = INFINITY;
+            continue;
+          }
+          double ta = (bounds.lo[a] - o[a]) / dir[a], tb = (bounds.hi[a] - o[a]) / dir[a];
+          Vec3 face{0, 0, 0};
+          face[a] = ta < tb ? -1 : 1;  // the outward normal of the face entered first
+          if (ta > tb) std::swap(ta, tb);
+          if (ta > t0) {
+            t0 = ta;
+            const Vec3f v = to_view(face);
+            entry_normal = {v.x, v.y, v.z};
+          }
+          t1 = std::min(t1, tb);
+        }
+        if (!(t0 <= t1)) continue;
+      }
+      const Vec3 e = o + dir * t0;
+      // Inside at the entry? Only a point in the box of the inside can be.
+      float f = 1;
+      if (inside.empty() || inside.contains(e)) {
+        const float ex = static_cast<float>(e.x), ey = static_cast<float>(e.y), ez = static_cast<float>(e.z);
+        oracle.values(&ex, &ey, &ez, &f, 1);
+      }
+      if (f < 0) {
+        out.depth[p] = static_cast<float>(w0 - t0);
+        out.normal[p] = Vec3f(entry_normal);
+        continue;
+      }
+      const std::optional<Oracle::RayHit> h = oracle.first_hit(e, dir, t1 - t0);
+      if (!h) continue;
+      out.depth[p] = static_cast<float>(w0 - (t0 + h->t));
+      const Vec3f n = to_view(h->normal);
+      out.normal[p] = n == Vec3f{0, 0, 0} ? kFacingViewer : n;
+    }
+  });
+  return out;
+}
+
+}  // namespace
+
 DepthMap Renderer3D::render(const Tape& model) {
   const Camera& cam = camera_;
+  if (model.size() == 1 && model.ssa()[0].op == Op::Oracle) {
+    const Oracle& o = model.oracle(model.ssa()[0].value);
+    if (o.casts_rays()) return render_rays(o, cam, options_.bounds, subdivider_->pool());
+  }
   const Tape tape = view_tape(model, cam, options_.bounds);
   const std::size_t pixels = static_cast<std::size_t>(cam.width) * static_cast<std::size_t>(cam.height);
   State st;

@@ -392,3 +392,48 @@ TEST(MeshCli, CheckAndSdf) {
 
 }  // namespace
 }  // namespace frep
+
+namespace frep {
+namespace {
+
+// Rays against every triangle: the first hit's t (and its triangle, up to ties) as found by
+// testing them all, for rays through random points, along axes, and missing.
+TEST(MeshDistance, FirstHitMatchesTestingEveryTriangle) {
+  const TriMesh mesh = test::make_sphere(3, 1.0);
+  const MeshDistance md(mesh);
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  int hits = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 o{u(rng), u(rng), 2.5};
+    Vec3 dir{u(rng) * 0.3, u(rng) * 0.3, -1};
+    if (i % 7 == 0) dir = {0, 0, -1};
+    // Brute force: the smallest t over all triangles (Moller-Trumbore in double).
+    double best = INFINITY;
+    for (std::size_t t = 0; t < mesh.num_triangles(); ++t) {
+      const Vec3 a = mesh.corner(t, 0), e1 = mesh.corner(t, 1) - a, e2 = mesh.corner(t, 2) - a;
+      const Vec3 p = cross(dir, e2);
+      const double det = dot(e1, p);
+      if (det == 0) continue;
+      const Vec3 s = o - a, q = cross(s, e1);
+      const double uu = dot(s, p) / det, vv = dot(dir, q) / det, tt = dot(e2, q) / det;
+      if (uu >= 0 && vv >= 0 && uu + vv <= 1 && tt >= 0) best = std::min(best, tt);
+    }
+    const auto h = md.first_hit(o, dir);
+    if (!std::isfinite(best)) {
+      // A miss, or a graze within the widened barycentric tests.
+      if (h) EXPECT_NEAR(length(o + dir * h->t), 1.0, 0.05);
+      continue;
+    }
+    ASSERT_TRUE(h.has_value()) << "missed a hit at t = " << best;
+    EXPECT_NEAR(h->t, best, 1e-12 * (1 + best));
+    ++hits;
+  }
+  EXPECT_GT(hits, 500);
+  EXPECT_FALSE(md.first_hit({0, 0, 2.5}, {0, 0, 1}).has_value());            // away from it
+  EXPECT_FALSE(md.first_hit({0, 0, 2.5}, {0, 0, -1}, 1.0).has_value());       // stops short
+  EXPECT_FALSE(md.first_hit({NAN, 0, 2.5}, {0, 0, -1}).has_value());
+}
+
+}  // namespace
+}  // namespace frep

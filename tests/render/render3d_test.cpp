@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "frep/convert/convert.hpp"
+#include "frep/convert/mesh_oracle.hpp"
 #include "frep/error.hpp"
 #include "frep/expr/expr.hpp"
 #include "frep/io/load.hpp"
@@ -145,6 +146,57 @@ TEST(Render3D, SphereCutByTheBounds) {
         if (dot(model, f) > 0.999) ++on_faces;
     }
   EXPECT_GT(on_faces, map.width() * map.height() / 10);
+}
+
+// A model that is one mesh (moved or not) is rendered by casting rays through its triangles: the
+// same picture as the column search of the same field, up to a depth step, and with the same
+// pixels hit but for a few on silhouettes and sample-thin slivers; cut by the bounds too.
+TEST(Render3D, MeshesAreRenderedByRaysLikeTheirColumnSearch) {
+  const auto sphere = std::make_shared<const MeshOracle>(test::make_sphere(3, 0.8));
+  Affine3 moved = Affine3::translation({0.1, -0.2, 0.05});
+  moved.m[0][0] = 1.4;  // stretched along x too
+  struct Case {
+    std::shared_ptr<const Oracle> oracle;
+    Render3DOptions o;
+    const char* what;
+  };
+  Render3DOptions cut = options(96, ViewDirection::Iso);
+  cut.bounds = Box3{{-0.6, -0.6, -0.6}, {0.6, 0.6, 0.6}};  // cuts the sphere: flat caps
+  const Case cases[] = {{sphere, options(96, ViewDirection::Front), "front"},
+                        {sphere, options(96, ViewDirection::Iso, 20, 10), "rotated"},
+                        {sphere, cut, "cut by the bounds"},
+                        {sphere->transformed(moved), options(96, ViewDirection::Iso), "moved and stretched"}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    Graph g;
+    const NodeId leaf = g.oracle(c.oracle);
+    const Tape rays = Tape::compile(g, leaf);
+    // The same field with one more instruction: searched by columns.
+    const Tape columns = Tape::compile(g, (Expr(g, leaf) + 0.0f * g.x()).id());
+    ASSERT_EQ(rays.size(), 1u);
+    ASSERT_GT(columns.size(), 1u);
+    const DepthMap a = render3d(rays, c.o), b = render3d(columns, c.o);
+    const Camera& cam = a.camera;
+    const double step = 2 * cam.half_w / cam.depth;
+    std::size_t hits = 0, disagree = 0, far = 0, turned = 0;
+    for (int y = 0; y < a.height(); ++y)
+      for (int x = 0; x < a.width(); ++x) {
+        const std::size_t i = a.index(x, y);
+        if (a.hit(x, y) != b.hit(x, y)) {
+          ++disagree;
+          continue;
+        }
+        if (!a.hit(x, y)) continue;
+        ++hits;
+        far += std::fabs(double(a.depth[i]) - b.depth[i]) > step;
+        const Vec3f na = a.normal[i], nb = b.normal[i];
+        turned += double(na.x) * nb.x + double(na.y) * nb.y + double(na.z) * nb.z < 0.9;
+      }
+    EXPECT_GT(hits, 1000u);
+    EXPECT_LE(disagree, hits / 100);
+    EXPECT_EQ(far, 0u);
+    EXPECT_LE(turned, hits / 100);
+  }
 }
 
 TEST(Render3D, RotatedBoxDepths) {

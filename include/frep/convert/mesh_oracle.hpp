@@ -50,6 +50,9 @@ class MeshOracle final : public Oracle {
   Box3 inside_box() const override { return field_.box(); }
   std::string describe() const override;
   NodeId closed_form(Graph& g) const override;
+  // Rays meet the triangles (MeshDistance::first_hit); the normal is the hit triangle's.
+  bool casts_rays() const override { return true; }
+  std::optional<RayHit> first_hit(const Vec3& o, const Vec3& dir, double t_max) const override;
 
  private:
   MeshField field_;

@@ -15,6 +15,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "frep/eval/grad.hpp"
@@ -54,6 +55,18 @@ class Oracle : public std::enable_shared_from_this<Oracle> {
   // The oracle evaluated at a(p) instead of p (moved, rotated, scaled). This default wraps it;
   // wrapping a wrapper composes the maps.
   virtual std::shared_ptr<const Oracle> transformed(const Affine3& a) const;
+
+  // Rays, for oracles that can intersect them exactly (a mesh): the first point of o + t dir
+  // with t in [0, t_max] on the surface f = 0, and the unit normal there (the direction of the
+  // gradient). nullopt where the ray meets nothing, and always for oracles without rays
+  // (casts_rays() false). Renderers cast rays through a model that is one such oracle instead of
+  // searching its columns.
+  struct RayHit {
+    double t = 0;
+    Vec3 normal;
+  };
+  virtual bool casts_rays() const { return false; }
+  virtual std::optional<RayHit> first_hit(const Vec3& o, const Vec3& dir, double t_max) const;
 };
 
 // f(a(p)) for an oracle f: what moving, rotating or scaling an oracle gives.
@@ -76,6 +89,8 @@ class TransformedOracle final : public Oracle {
   std::string describe() const override;
   NodeId closed_form(Graph& g) const override;
   std::shared_ptr<const Oracle> transformed(const Affine3& a) const override;
+  bool casts_rays() const override { return base_->casts_rays(); }
+  std::optional<RayHit> first_hit(const Vec3& o, const Vec3& dir, double t_max) const override;
 
  private:
   // The mapped points, in float (the base's coordinates), n at most kChunk at a time.

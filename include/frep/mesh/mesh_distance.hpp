@@ -4,7 +4,9 @@
 // Negative inside, like every field in frep.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <optional>
 #include <memory>
 #include <vector>
 
@@ -87,6 +89,14 @@ class MeshDistance {
                        SignMethod method = SignMethod::WindingNumber, int threads = 0) const;
   void unsigned_distance(const double* x, const double* y, const double* z, double* out, std::size_t n,
                          int threads = 0) const;
+
+  // The first point where the ray o + t dir (dir need not be unit) meets a triangle, for t in
+  // [0, t_max]: its t and triangle index (the mesh's); nullopt if it meets none.
+  struct RayHit {
+    double t = 0;
+    std::uint32_t triangle = 0;
+  };
+  std::optional<RayHit> first_hit(const Vec3& o, const Vec3& dir, double t_max = INFINITY) const;
 
   std::size_t num_triangles() const;
 

@@ -9,6 +9,12 @@
 // their pixels, boxes behind depths already found are skipped, and the remaining small boxes
 // search their columns on a tape simplified for them. The result equals that of sampling every
 // column on the full tape (render3d_brute_force), for any thread count and tile sizes.
+//
+// A model that is one oracle casting rays (a mesh, moved or not: Oracle::casts_rays) is rendered
+// by a ray per pixel instead: the exact first hit, cut to the bounds (a ray entering them inside
+// the shape shows the face it enters through, or faces the viewer at the front), with the hit
+// triangle's normal. It differs from the column search only where samples miss a sliver thinner
+// than a depth step, and by at most a step elsewhere.
 #pragma once
 
 #include <memory>
