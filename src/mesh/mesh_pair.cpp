@@ -1,5 +1,6 @@
 // compare_meshes (mesh_pair.hpp): both meshes are placed in the common frame and scaled by one
-// power of two, each gets a hierarchy over its placed triangles; then one dual traversal lists the
+// power of two, each gets the project's hierarchy (TriangleBvh) over its placed triangles, whose
+// outward rounded float boxes prune without deciding anything; then one dual traversal lists the
 // triangle pairs whose boxes meet and classifies them exactly, and, when no pair meets, a second
 // dual traversal finds the closest pair of triangles, discarding node pairs whose boxes (and
 // leaf and triangle pairs whose projections onto the line between them) are farther apart than
@@ -17,7 +18,7 @@
 #include <utility>
 
 #include "frep/error.hpp"
-#include "frep/math/morton.hpp"
+#include "frep/mesh/bvh.hpp"
 #include "frep/mesh/topology.hpp"
 #include "frep/util/thread_pool.hpp"
 #include "mesh/predicates.hpp"
@@ -102,65 +103,38 @@ Vec3 contact_point(const Vec3 p[3], const Vec3 q[3]) {
 
 // --- One mesh, placed and indexed.
 
-// A bounding volume hierarchy built for this query: triangles in Morton order of their box
-// centres, split where the codes first differ (an octree-like split, with a median split for
-// equal codes). It builds in a few milliseconds per 100,000 triangles, several times faster than
-// the SAH hierarchy of frep/mesh/bvh.hpp, and prunes about as well for distances and overlaps;
-// boxes are exact (double) boxes of the placed triangles.
-struct Node {
-  double lo[3], hi[3];
-  std::uint32_t index;  // inner node: children index, index + 1; leaf: first triangle (leaf order)
-  std::uint32_t count;  // triangles of a leaf, 0 for an inner node
-  bool leaf() const { return count != 0; }
-};
+using Node = TriangleBvh::Node;
 
 // Leaves of up to 16 triangles: a leaf pair is first measured as a whole by projecting its
 // corners (DistanceSearch::projected_gap), which is much tighter than boxes where surfaces are
 // nearly equidistant over a wide area; smaller leaves leave more of that to boxes (two nearly
 // concentric spheres of 200,000 triangles, 1 apart: 0.8 s with 16, 2.1 s with 4).
-constexpr std::uint32_t kLeafSize = 16;
+constexpr int kLeafSize = 16;
 
+// The project's hierarchy over the placed triangles (its float boxes, rounded outward, contain
+// the double triangles: pruning by them never loses a pair), and the triangles' corners in its
+// leaf order, which is how the traversals read them.
 struct Side {
   const MeshField* field = nullptr;
   TriMesh placed;                         // welded triangles, placed and scaled vertices
-  std::vector<Node> nodes;                // root first
+  TriangleBvh bvh;                        // over `placed`
   std::vector<std::array<Vec3, 3>> tri;   // corners, leaf order
-  std::vector<Box3> box;                  // triangle boxes, leaf order
   std::vector<Vec3> centre;               // centroids, leaf order
-  std::vector<std::uint32_t> id;          // leaf order -> triangle index
   std::vector<std::uint8_t> usable;       // leaf order: spans a plane (collinear corners do not)
 
+  const std::vector<Node>& nodes() const { return bvh.nodes(); }
+  std::uint32_t id(std::uint32_t i) const { return bvh.order()[i]; }  // leaf order -> triangle index
+
   void index() {
+    BvhOptions bo;
+    bo.max_leaf_size = kLeafSize;
+    bvh = TriangleBvh(placed, bo);
     const std::size_t n = placed.triangles.size();
-    std::vector<Box3> tb(n);
-    Box3 centres;
-    for (std::size_t t = 0; t < n; ++t) {
-      for (int k = 0; k < 3; ++k) tb[t].add(placed.corner(t, k));
-      centres.add(tb[t].center());
-    }
-    // Morton codes of the box centres, 21 bits per axis over the box of the centres.
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> key(n);
-    const Vec3 size = centres.size();
-    const auto cell = [&](double v, double lo, double w) {
-      return w > 0 ? static_cast<std::uint64_t>(std::clamp((v - lo) / w, 0.0, 1.0) * kMortonCells) : 0;
-    };
-    for (std::size_t t = 0; t < n; ++t) {
-      const Vec3 c = tb[t].center();
-      key[t] = {morton_spread(cell(c.x, centres.lo.x, size.x)) | morton_spread(cell(c.y, centres.lo.y, size.y)) << 1 |
-                    morton_spread(cell(c.z, centres.lo.z, size.z)) << 2,
-                static_cast<std::uint32_t>(t)};
-    }
-    std::sort(key.begin(), key.end());
-    id.resize(n);
     tri.resize(n);
-    box.resize(n);
     centre.resize(n);
     usable.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-      const std::uint32_t t = key[i].second;
-      const Triangle& v = placed.triangles[t];
-      id[i] = t;
-      box[i] = tb[t];
+      const Triangle& v = placed.triangles[id(static_cast<std::uint32_t>(i))];
       for (int k = 0; k < 3; ++k) tri[i][k] = placed.vertices[v[k]];
       centre[i] = (tri[i][0] + tri[i][1] + tri[i][2]) / 3.0;
       // Collapsed or collinear triangles are skipped by the contact test (it needs a plane);
@@ -171,55 +145,12 @@ struct Side {
                                exact::orient2d(c[0].y, c[0].z, c[1].y, c[1].z, c[2].y, c[2].z) != 0 ||
                                exact::orient2d(c[0].z, c[0].x, c[1].z, c[1].x, c[2].z, c[2].x) != 0);
     }
-    nodes.clear();
-    nodes.reserve(2 * (n / kLeafSize + 1));
-    nodes.push_back({});
-    build(0, 0, static_cast<std::uint32_t>(n), key);
-  }
-
- private:
-  void build(std::uint32_t ni, std::uint32_t b, std::uint32_t e,
-             const std::vector<std::pair<std::uint64_t, std::uint32_t>>& key) {
-    if (e - b <= kLeafSize) {
-      Box3 u;
-      for (std::uint32_t i = b; i < e; ++i) u.add(box[i]);
-      nodes[ni] = {{u.lo.x, u.lo.y, u.lo.z}, {u.hi.x, u.hi.y, u.hi.z}, b, e - b};
-      return;
-    }
-    // Split where the highest differing bit of the (sorted) codes turns on; equal codes split in
-    // the middle.
-    std::uint32_t m = b + (e - b) / 2;
-    const std::uint64_t diff = key[b].first ^ key[e - 1].first;
-    if (diff != 0) {
-      const std::uint64_t bit = std::uint64_t(1) << (63 - __builtin_clzll(diff));
-      m = static_cast<std::uint32_t>(
-          std::partition_point(key.begin() + b, key.begin() + e, [&](const auto& k) { return (k.first & bit) == 0; }) -
-          key.begin());
-    }
-    const auto c = static_cast<std::uint32_t>(nodes.size());
-    nodes.push_back({});
-    nodes.push_back({});
-    build(c, b, m, key);
-    build(c + 1, m, e, key);
-    Node& nd = nodes[ni];
-    for (int k = 0; k < 3; ++k) {
-      nd.lo[k] = std::min(nodes[c].lo[k], nodes[c + 1].lo[k]);
-      nd.hi[k] = std::max(nodes[c].hi[k], nodes[c + 1].hi[k]);
-    }
-    nd.index = c;
-    nd.count = 0;
   }
 };
 
-bool boxes_meet(const Node& a, const Node& b) {
-  return a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] && a.lo[2] <= b.hi[2] &&
-         b.lo[2] <= a.hi[2];
-}
-
 // Squared distance between two boxes (a lower bound of any distance between their contents, up
 // to the rounding the pruning margin allows for).
-template <class T>
-double gap2(const T* alo, const T* ahi, const T* blo, const T* bhi) {
+double gap2(const float* alo, const float* ahi, const float* blo, const float* bhi) {
   double s = 0;
   for (int k = 0; k < 3; ++k) {
     const double g = std::max({0.0, double(blo[k]) - double(ahi[k]), double(alo[k]) - double(bhi[k])});
@@ -228,16 +159,10 @@ double gap2(const T* alo, const T* ahi, const T* blo, const T* bhi) {
   return s;
 }
 double node_gap2(const Node& a, const Node& b) { return gap2(a.lo, a.hi, b.lo, b.hi); }
-double box_gap2(const Box3& a, const Box3& b) {
-  const double alo[3] = {a.lo.x, a.lo.y, a.lo.z}, ahi[3] = {a.hi.x, a.hi.y, a.hi.z};
-  const double blo[3] = {b.lo.x, b.lo.y, b.lo.z}, bhi[3] = {b.hi.x, b.hi.y, b.hi.z};
-  return gap2(alo, ahi, blo, bhi);
+double triangle_gap2(const Side& A, std::uint32_t i, const Side& B, std::uint32_t j) {
+  const float *a = A.bvh.triangle_box(i), *b = B.bvh.triangle_box(j);
+  return gap2(a, a + 3, b, b + 3);
 }
-
-double extent(const Node& n) { return (n.hi[0] - n.lo[0]) + (n.hi[1] - n.lo[1]) + (n.hi[2] - n.lo[2]); }
-
-// Which node of a pair to open: the one that is not a leaf, or the bigger.
-bool open_a(const Node& a, const Node& b) { return !a.leaf() && (b.leaf() || extent(a) >= extent(b)); }
 
 struct NodePair {
   std::uint32_t a, b;
@@ -248,21 +173,21 @@ struct NodePair {
 template <class Keep>
 std::vector<NodePair> top_pairs(const Side& A, const Side& B, std::size_t want, Keep keep) {
   std::vector<NodePair> jobs;
-  if (keep(A.nodes[0], B.nodes[0])) jobs.push_back({0, 0});
+  if (keep(A.nodes()[0], B.nodes()[0])) jobs.push_back({0, 0});
   for (int round = 0; round < 16 && !jobs.empty() && jobs.size() < want; ++round) {
     std::vector<NodePair> next;
     bool opened = false;
     for (const NodePair& j : jobs) {
-      const Node &na = A.nodes[j.a], &nb = B.nodes[j.b];
+      const Node &na = A.nodes()[j.a], &nb = B.nodes()[j.b];
       if (na.leaf() && nb.leaf()) {
         next.push_back(j);
         continue;
       }
       opened = true;
-      const bool oa = open_a(na, nb);
+      const bool oa = TriangleBvh::open_first(na, nb);
       for (std::uint32_t c = 0; c < 2; ++c) {
         const NodePair k = oa ? NodePair{na.index + c, j.b} : NodePair{j.a, nb.index + c};
-        if (keep(A.nodes[k.a], B.nodes[k.b])) next.push_back(k);
+        if (keep(A.nodes()[k.a], B.nodes()[k.b])) next.push_back(k);
       }
     }
     jobs.swap(next);
@@ -287,38 +212,18 @@ struct Tally {
   }
 };
 
+// Classifies every pair of usable triangles below a node pair whose (outward rounded) boxes
+// overlap: a superset of the pairs that meet, each decided exactly.
 void contacts_below(const Side& A, const Side& B, NodePair start, Tally& tally) {
-  std::vector<NodePair> stack{start};
-  const auto& an = A.nodes;
-  const auto& bn = B.nodes;
-  while (!stack.empty()) {
-    const NodePair pr = stack.back();
-    stack.pop_back();
-    const Node &na = an[pr.a], &nb = bn[pr.b];
-    if (!boxes_meet(na, nb)) continue;
-    if (na.leaf() && nb.leaf()) {
-      for (std::uint32_t i = na.index; i < na.index + na.count; ++i) {
-        if (!A.usable[i]) continue;
-        for (std::uint32_t j = nb.index; j < nb.index + nb.count; ++j) {
-          if (!B.usable[j] || !A.box[i].meets(B.box[j])) continue;
-          // Different meshes share no vertex: distinct indices make every coincidence a contact.
-          static constexpr unsigned pi[3] = {0, 1, 2}, qi[3] = {3, 4, 5};
-          const Contact c = classify_triangle_pair(A.tri[i].data(), pi, B.tri[j].data(), qi);
-          if (c == Contact::Cross) tally.add(int(PairContact::Cross), A.id[i], B.id[j]);
-          else if (c == Contact::Overlap) tally.add(int(PairContact::Overlap), A.id[i], B.id[j]);
-          else if (c == Contact::Touch) tally.add(int(PairContact::Touch), A.id[i], B.id[j]);
-        }
-      }
-      continue;
-    }
-    if (open_a(na, nb)) {
-      stack.push_back({na.index, pr.b});
-      stack.push_back({na.index + 1, pr.b});
-    } else {
-      stack.push_back({pr.a, nb.index});
-      stack.push_back({pr.a, nb.index + 1});
-    }
-  }
+  A.bvh.for_each_overlapping_pair_below(start.a, B.bvh, start.b, [&](std::uint32_t i, std::uint32_t j) {
+    if (!A.usable[i] || !B.usable[j]) return;
+    // Different meshes share no vertex: distinct indices make every coincidence a contact.
+    static constexpr unsigned pi[3] = {0, 1, 2}, qi[3] = {3, 4, 5};
+    const Contact c = classify_triangle_pair(A.tri[i].data(), pi, B.tri[j].data(), qi);
+    if (c == Contact::Cross) tally.add(int(PairContact::Cross), A.id(i), B.id(j));
+    else if (c == Contact::Overlap) tally.add(int(PairContact::Overlap), A.id(i), B.id(j));
+    else if (c == Contact::Touch) tally.add(int(PairContact::Touch), A.id(i), B.id(j));
+  });
 }
 
 // --- Distance.
@@ -383,8 +288,10 @@ class DistanceSearch {
 
   void leaves(const Node& na, const Node& nb, Best& best) {
     // The two leaves as wholes first.
-    const Vec3 ca{(na.lo[0] + na.hi[0]) / 2, (na.lo[1] + na.hi[1]) / 2, (na.lo[2] + na.hi[2]) / 2};
-    const Vec3 cb{(nb.lo[0] + nb.hi[0]) / 2, (nb.lo[1] + nb.hi[1]) / 2, (nb.lo[2] + nb.hi[2]) / 2};
+    const auto mid = [](const Node& n) {
+      return Vec3{(double(n.lo[0]) + n.hi[0]) / 2, (double(n.lo[1]) + n.hi[1]) / 2, (double(n.lo[2]) + n.hi[2]) / 2};
+    };
+    const Vec3 ca = mid(na), cb = mid(nb);
     const auto corners = [](const Side& s, const Node& n) {
       return [&s, &n](auto f) {
         for (std::uint32_t i = n.index; i < n.index + n.count; ++i)
@@ -395,7 +302,7 @@ class DistanceSearch {
     if (far(leaf_gap * leaf_gap)) return;
     for (std::uint32_t i = na.index; i < na.index + na.count; ++i)
       for (std::uint32_t j = nb.index; j < nb.index + nb.count; ++j) {
-        if (far(box_gap2(A_.box[i], B_.box[j]))) continue;
+        if (far(triangle_gap2(A_, i, B_, j))) continue;
         const auto& p = A_.tri[i];
         const auto& q = B_.tri[j];
         const double gap = projected_gap(A_.centre[i], B_.centre[j], [&](auto f) { for (const Vec3& v : p) f(v); },
@@ -403,7 +310,7 @@ class DistanceSearch {
         if (far(gap * gap)) continue;
         Vec3 x, y;
         const double d2 = triangle_distance2(p.data(), q.data(), x, y);
-        if (best.better(d2, A_.id[i], B_.id[j])) best = {d2, A_.id[i], B_.id[j], x, y};
+        if (best.better(d2, A_.id(i), B_.id(j))) best = {d2, A_.id(i), B_.id(j), x, y};
         lower_bound_to(d2);
       }
   }
@@ -415,8 +322,8 @@ class DistanceSearch {
       NodePair pair;
       double gap2;
     };
-    const auto& an = A_.nodes;
-    const auto& bn = B_.nodes;
+    const auto& an = A_.nodes();
+    const auto& bn = B_.nodes();
     std::vector<Entry> stack{{start, node_gap2(an[start.a], bn[start.b])}};
     while (!stack.empty()) {
       const Entry e = stack.back();
@@ -428,7 +335,7 @@ class DistanceSearch {
         continue;
       }
       NodePair c0, c1;
-      if (open_a(na, nb)) c0 = {na.index, e.pair.b}, c1 = {na.index + 1, e.pair.b};
+      if (TriangleBvh::open_first(na, nb)) c0 = {na.index, e.pair.b}, c1 = {na.index + 1, e.pair.b};
       else c0 = {e.pair.a, nb.index}, c1 = {e.pair.a, nb.index + 1};
       double g0 = node_gap2(an[c0.a], bn[c0.b]), g1 = node_gap2(an[c1.a], bn[c1.b]);
       if (g0 <= g1) std::swap(c0, c1), std::swap(g0, g1);  // push the farther first: the nearer is searched first
@@ -439,14 +346,14 @@ class DistanceSearch {
 
   // A first bound: straight down, always into the nearer child pair.
   void descend(Best& best) {
-    const auto& an = A_.nodes;
-    const auto& bn = B_.nodes;
+    const auto& an = A_.nodes();
+    const auto& bn = B_.nodes();
     NodePair pr{0, 0};
     for (;;) {
       const Node &na = an[pr.a], &nb = bn[pr.b];
       if (na.leaf() && nb.leaf()) return leaves(na, nb, best);
       NodePair c0, c1;
-      if (open_a(na, nb)) c0 = {na.index, pr.b}, c1 = {na.index + 1, pr.b};
+      if (TriangleBvh::open_first(na, nb)) c0 = {na.index, pr.b}, c1 = {na.index + 1, pr.b};
       else c0 = {pr.a, nb.index}, c1 = {pr.a, nb.index + 1};
       pr = node_gap2(an[c0.a], bn[c0.b]) <= node_gap2(an[c1.a], bn[c1.b]) ? c0 : c1;
     }
@@ -537,7 +444,7 @@ MeshPairResult compare_meshes(const PlacedMesh& pa, const PlacedMesh& pb, const 
 
   // Contacts: every pair of triangles whose boxes meet, classified exactly.
   {
-    const std::vector<NodePair> jobs = top_pairs(A, B, want, boxes_meet);
+    const std::vector<NodePair> jobs = top_pairs(A, B, want, TriangleBvh::boxes_overlap);
     std::vector<Tally> tallies(static_cast<std::size_t>(threads));
     for (Tally& t : tallies) t.keep = opt.max_examples;
     parallel_for_ranges(threads, jobs.size(), 1, [&](int worker, std::size_t b, std::size_t e) {
@@ -550,9 +457,9 @@ MeshPairResult compare_meshes(const PlacedMesh& pa, const PlacedMesh& pb, const 
         for (; !t.first[kind].empty(); t.first[kind].pop()) keys[kind].push_back(t.first[kind].top());
       }
     // Triangle index -> leaf position, for the corners of the examples.
-    std::vector<std::uint32_t> pos_a(A.id.size()), pos_b(B.id.size());
-    for (std::uint32_t i = 0; i < A.id.size(); ++i) pos_a[A.id[i]] = i;
-    for (std::uint32_t i = 0; i < B.id.size(); ++i) pos_b[B.id[i]] = i;
+    std::vector<std::uint32_t> pos_a(A.tri.size()), pos_b(B.tri.size());
+    for (std::uint32_t i = 0; i < A.tri.size(); ++i) pos_a[A.id(i)] = i;
+    for (std::uint32_t i = 0; i < B.tri.size(); ++i) pos_b[B.id(i)] = i;
     for (int kind = 0; kind < 3; ++kind) {
       std::sort(keys[kind].begin(), keys[kind].end());
       for (std::uint64_t key : keys[kind]) {
@@ -605,7 +512,7 @@ MeshPairResult compare_meshes(const PlacedMesh& pa, const PlacedMesh& pb, const 
       // Nearest jobs first: they tighten the shared bound that prunes the others.
       std::vector<std::pair<double, std::size_t>> order(jobs.size());
       for (std::size_t k = 0; k < jobs.size(); ++k)
-        order[k] = {node_gap2(A.nodes[jobs[k].a], B.nodes[jobs[k].b]), k};
+        order[k] = {node_gap2(A.nodes()[jobs[k].a], B.nodes()[jobs[k].b]), k};
       std::sort(order.begin(), order.end());
       std::vector<Best> bests(static_cast<std::size_t>(threads), first);
       parallel_for_ranges(threads, order.size(), 1, [&](int worker, std::size_t b, std::size_t e) {
