@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "frep/error.hpp"
+#include "frep/expr/oracle.hpp"
 
 namespace frep {
 namespace {
@@ -131,6 +132,13 @@ void Differentiator::compute(NodeId id) {
     case Op::Const:
       memo_[id] = out;
       return;
+    case Op::Oracle: {
+      // Its partial derivatives are oracles too (GradientOracle).
+      const std::shared_ptr<const Oracle> o = g.oracles()[oracle_index(n.value)];  // a copy: the table grows
+      for (int a = 0; a < 3; ++a) out.d[a] = g.oracle(std::make_shared<const GradientOracle>(o, a));
+      memo_[id] = out;
+      return;
+    }
     default:
       break;
   }

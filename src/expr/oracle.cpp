@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "frep/error.hpp"
+#include "frep/expr/derivative.hpp"
 #include "frep/expr/remap.hpp"
 
 namespace frep {
@@ -170,6 +171,44 @@ std::shared_ptr<const Oracle> TransformedOracle::transformed(const Affine3& a) c
   const Affine3 total = map_ * a;  // f(M(a(p)))
   if (total.is_identity()) return base_;
   return std::make_shared<TransformedOracle>(base_, total);
+}
+
+GradientOracle::GradientOracle(std::shared_ptr<const Oracle> base, int axis) : base_(std::move(base)), axis_(axis) {
+  FREP_ASSERT(axis >= 0 && axis < 3, "an axis is 0, 1 or 2");
+}
+
+void GradientOracle::values(const float* x, const float* y, const float* z, float* out, std::size_t n) const {
+  Grad g[kChunk];
+  for (std::size_t b = 0; b < n; b += kChunk) {
+    const std::size_t m = std::min(kChunk, n - b);
+    base_->gradients(x + b, y + b, z + b, g, m);
+    for (std::size_t i = 0; i < m; ++i) out[b + i] = axis_ == 0 ? g[i].dx : axis_ == 1 ? g[i].dy : g[i].dz;
+  }
+}
+
+void GradientOracle::gradients(const float* x, const float* y, const float* z, Grad* out, std::size_t n) const {
+  // Second derivatives are not known: the values with a zero gradient (the convention of
+  // piecewise-constant ops).
+  float v[kChunk];
+  for (std::size_t b = 0; b < n; b += kChunk) {
+    const std::size_t m = std::min(kChunk, n - b);
+    values(x + b, y + b, z + b, v, m);
+    for (std::size_t i = 0; i < m; ++i) out[b + i] = {v[i], 0, 0, 0};
+  }
+}
+
+void GradientOracle::bounds(const Interval*, const Interval*, const Interval*, Interval* out, std::size_t n) const {
+  const double l = base_->lipschitz();
+  const float b = static_cast<float>(l * (1 + 1e-6));
+  for (std::size_t k = 0; k < n; ++k) out[k] = l > 0 ? Interval{-b, b} : Interval::unknown();
+}
+
+std::string GradientOracle::describe() const { return std::string("d/d") + "xyz"[axis_] + " of " + base_->describe(); }
+
+NodeId GradientOracle::closed_form(Graph& g) const {
+  Differentiator d(g);
+  const Gradient gr = d.grad(base_->closed_form(g));
+  return (axis_ == 0 ? gr.x : axis_ == 1 ? gr.y : gr.z).id();
 }
 
 }  // namespace frep

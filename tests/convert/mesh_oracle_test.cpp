@@ -17,11 +17,13 @@
 #include "frep/eval/evaluators.hpp"
 #include "frep/eval/interval_batch.hpp"
 #include "frep/expr/copy.hpp"
+#include "frep/expr/derivative.hpp"
 #include "frep/expr/expr.hpp"
 #include "frep/expr/remap.hpp"
 #include "frep/io/vm.hpp"
 #include "frep/mesh/mesh_io.hpp"
 #include "frep/mesh/validate.hpp"
+#include "frep/ugf/normalize.hpp"
 #include "mesh_test_util.hpp"
 
 namespace frep {
@@ -268,6 +270,33 @@ TEST(MeshOracle, RefusesWhatConvertRefuses) {
     EXPECT_EQ(e.file(), teapot);
     EXPECT_NE(std::string(e.what()).find("cannot convert"), std::string::npos) << e.what();
   }
+}
+
+// Symbolic gradients of a mesh leaf are oracles of its gradient components, so operations built
+// on gradients apply to meshes: Sampson normalization leaves an exact distance unchanged.
+TEST(MeshOracle, GradientsOfMeshLeavesAreOraclesToo) {
+  const auto oracle = std::make_shared<const MeshOracle>(test::make_sphere(2, 1.0));
+  Graph g;
+  const Expr m(g, g.oracle(oracle));
+  Differentiator d(g);
+  const Gradient gr = d.grad(m);
+  const Tape tx = Tape::compile(g, gr.x.id()), tn = Tape::compile(g, ugf::normalize(m).id());
+  PointEvaluator pe;
+  IntervalEvaluator ie;
+  std::mt19937_64 rng(6);
+  std::uniform_real_distribution<float> u(-2, 2);
+  for (int i = 0; i < 300; ++i) {
+    const float p[3] = {u(rng), u(rng), u(rng)};
+    Grad expect;
+    oracle->gradients(&p[0], &p[1], &p[2], &expect, 1);
+    EXPECT_EQ(pe.eval(tx, p[0], p[1], p[2]), expect.dx);
+    float v = 0;
+    oracle->values(&p[0], &p[1], &p[2], &v, 1);
+    EXPECT_NEAR(pe.eval(tn, p[0], p[1], p[2]), v, 1e-6);
+    const Interval b = ie.eval(tx, {p[0] - 0.1f, p[0] + 0.1f}, {p[1], p[1]}, {p[2], p[2]});
+    EXPECT_TRUE(b.lo >= -1.001f && b.hi <= 1.001f && b.contains(expect.dx));
+  }
+  EXPECT_NE(dynamic_cast<const GradientOracle*>(&g.oracle_of(g.node(gr.y.id()))), nullptr);
 }
 
 // A mesh oracle minus a sphere meshes into a closed solid of the right volume.

@@ -101,4 +101,26 @@ class TransformedOracle final : public Oracle {
   double lipschitz_;
 };
 
+// One partial derivative of an oracle, d f / d axis, as an oracle of its own: what symbolic
+// gradients (frep/expr/derivative.hpp) make of an oracle leaf, so that operations built on
+// gradients (normalization, edge frames, medial surfaces) apply to meshes too. Its values are the
+// base's gradients() component; its bounds are [-L, L] for the base's Lipschitz bound L (unknown
+// without one); its closed form is the derivative of the base's closed form.
+class GradientOracle final : public Oracle {
+ public:
+  GradientOracle(std::shared_ptr<const Oracle> base, int axis);
+
+  void values(const float* x, const float* y, const float* z, float* out, std::size_t n) const override;
+  void gradients(const float* x, const float* y, const float* z, Grad* out, std::size_t n) const override;
+  void bounds(const Interval* x, const Interval* y, const Interval* z, Interval* out, std::size_t n) const override;
+  double lipschitz() const override { return 0; }
+  std::string describe() const override;
+  NodeId closed_form(Graph& g) const override;
+
+ private:
+  static constexpr std::size_t kChunk = 256;
+  std::shared_ptr<const Oracle> base_;
+  int axis_;
+};
+
 }  // namespace frep
