@@ -38,17 +38,6 @@ inline float up(double v) {
   return std::bit_cast<float>(u + (double(f) < v ? step : 0u));
 }
 
-// std::fmin and std::fmax as inline selections, as glibc's answer them (a NaN yields the other
-// argument; of equal values, such as -0 and +0, the second): for the corners of a triangle only.
-inline double fmin_inline(double a, double b) {
-  const double m = a < b ? a : b;
-  return b != b ? a : m;
-}
-inline double fmax_inline(double a, double b) {
-  const double m = a > b ? a : b;
-  return b != b ? a : m;
-}
-
 // A box in double precision as six numbers that only ever decrease: lo xyz and -hi xyz (negation
 // is exact), so that growing a box is six minimums, which the compiler makes vector instructions.
 // Empty: all +inf.

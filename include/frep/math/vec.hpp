@@ -41,9 +41,20 @@ template <class T> constexpr Vec3T<T> cross(Vec3T<T> a, Vec3T<T> b) {
 }
 template <class T> constexpr T length2(Vec3T<T> a) { return dot(a, a); }
 template <class T> T length(Vec3T<T> a) { return std::sqrt(dot(a, a)); }
-// Component-wise; a NaN component yields the other argument's (fmin/fmax).
-template <class T> Vec3T<T> min(Vec3T<T> a, Vec3T<T> b) { return {std::fmin(a.x, b.x), std::fmin(a.y, b.y), std::fmin(a.z, b.z)}; }
-template <class T> Vec3T<T> max(Vec3T<T> a, Vec3T<T> b) { return {std::fmax(a.x, b.x), std::fmax(a.y, b.y), std::fmax(a.z, b.z)}; }
+// std::fmin and std::fmax as inline selections, answering as glibc's do (a NaN yields the other
+// argument; of equal values, such as -0 and +0, the second): the library calls, which compilers
+// do not inline, were a third of a hierarchy's build.
+template <class T> constexpr T fmin_inline(T a, T b) {
+  const T m = a < b ? a : b;
+  return b != b ? a : m;
+}
+template <class T> constexpr T fmax_inline(T a, T b) {
+  const T m = a > b ? a : b;
+  return b != b ? a : m;
+}
+// Component-wise; a NaN component yields the other argument's (as fmin/fmax).
+template <class T> constexpr Vec3T<T> min(Vec3T<T> a, Vec3T<T> b) { return {fmin_inline(a.x, b.x), fmin_inline(a.y, b.y), fmin_inline(a.z, b.z)}; }
+template <class T> constexpr Vec3T<T> max(Vec3T<T> a, Vec3T<T> b) { return {fmax_inline(a.x, b.x), fmax_inline(a.y, b.y), fmax_inline(a.z, b.z)}; }
 
 // Closed axis-aligned box. The default box is empty (lo > hi), and adding a point makes it that point.
 template <class T>
