@@ -1,5 +1,6 @@
-// frep sample: dense grids and point samples of exact signed distances, from a mesh or an
-// expression, written as float32 .npy files (layout in frep/sample/grid.hpp, docs/sampling.md).
+// frep sample: dense grids (optionally truncated at +-D) and point samples of exact signed
+// distances, from a mesh or an expression, written as float32 .npy files (layout in
+// frep/sample/grid.hpp, docs/sampling.md).
 #include <fmt/core.h>
 
 #include <chrono>
@@ -37,14 +38,14 @@ void register_sample(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "sample",
       "Sample exact signed distances (negative inside) of a mesh or an expression into a float32 .npy file: "
-      "a dense grid (--grid) or points with their distances (--points, --near-surface), as used to train "
-      "neural SDFs");
+      "a dense grid (--grid; --truncate D for the truncated signed distance) or points with their distances "
+      "(--points, --near-surface), as used to train neural SDFs");
   struct Args {
     std::string input, output, sign = "pseudonormal", method = "auto";
     int grid = 0;
     std::vector<double> bounds;
     std::size_t points = 0, near = 0;
-    std::optional<double> sigma;
+    std::optional<double> sigma, truncate;
     std::uint64_t seed = 0;
     double weld_tolerance = 0;
     int threads = 0;
@@ -73,6 +74,14 @@ void register_sample(CLI::App& app) {
   near->needs(sigma);
   sigma->needs(near);
   grid->excludes(points)->excludes(near);
+  auto* truncate =
+      cmd->add_option("--truncate", a->truncate,
+                      "With --grid: the truncated signed distance clamp(d, -D, D) for a length D > 0, exact within D of "
+                      "the surface and +-D beyond, computing only what that needs (meshes that are not valid solids: "
+                      "every sample queried, then clamped)")
+          ->type_name("D")
+          ->check(finite_number(true));
+  truncate->needs(grid)->excludes(points)->excludes(near);
   cmd->add_option("--seed", a->seed, "Seed of the random points (default 0); the same seed gives the same file")
       ->check(whole_non_negative());
   cmd->add_option("--sign", a->sign,
@@ -148,12 +157,18 @@ void register_sample(CLI::App& app) {
           go.method = a->method == "cpt" ? MeshGridMethod::Cpt
                                           : (a->method == "queries" ? MeshGridMethod::Queries : MeshGridMethod::Auto);
           go.progress = progress;
+          go.truncate = a->truncate.value_or(0);
           MeshGridStats st;
           data = sample_grid(field, cube_grid(b, a->grid), go, &st);
           what = st.method == MeshGridMethod::Cpt
                      ? fmt::format("closest point transform, {} polyhedra, {:.2f} distances per sample", st.features,
                                    static_cast<double>(st.evaluations) / static_cast<double>(data.size()))
                      : "one oracle query per sample";
+          if (a->truncate)
+            what += st.method == MeshGridMethod::Cpt
+                        ? fmt::format(", truncated at +-{:g}: {} samples exact, the rest +-{:g}", *a->truncate,
+                                      st.band_samples, *a->truncate)
+                        : fmt::format(", truncated at +-{:g} (clamped)", *a->truncate);
         } else {
           PointSampleOptions po;
           po.seed = a->seed;
@@ -179,8 +194,11 @@ void register_sample(CLI::App& app) {
         if (a->grid) {
           ExprGridOptions eo;
           eo.threads = a->threads;
+          eo.truncate = a->truncate.value_or(0);
+          eo.lipschitz = m.info.lipschitz;
           data = sample_grid(tape, cube_grid(b, a->grid), eo);
           what = "pruned evaluator";
+          if (a->truncate) what += fmt::format(", truncated at +-{:g}", *a->truncate);
         } else {
           PointSampleOptions po;
           po.seed = a->seed;

@@ -18,6 +18,19 @@
 // outside its own polyhedron differs from the true distance by at most the margin. The winner
 // of each sample is then re-evaluated with MeshDistance's own formulas (face plane distance,
 // vertex distance, MeshDistance::closest_point_on for edges) and its pseudonormal sign.
+//
+// Truncated grids (values clamped to +-D): a sample at distance d <= D lies in its owner's
+// polyhedron at a height of at most d along the axis, and so does every feature whose distance
+// there could win it, so capping every reach at the band (D, widened by a hair) keeps the winner,
+// hence the value, of every sample within D bit for bit; the walk and its oracle queries are
+// skipped for narrow bands. A sample whose winner is farther than the band (or that no capped
+// polyhedron reached) is farther than D from the surface: it only needs its side. Two
+// neighbouring samples on opposite sides are both within a voxel edge of the surface (the segment
+// between them crosses it), so with a band at least a voxel edge wide, no sample beyond the band
+// neighbours a band sample or a beyond-the-band sample on the other side: each connected region
+// of samples beyond the band takes the side of the band samples around it (a flood fill, row by
+// row), and a grid without a band sample is one region, whose side one oracle query tells. The
+// sides are the true ones, so the result does not depend on the order of the fill.
 #include "sample/cpt.hpp"
 
 #include <algorithm>
@@ -28,6 +41,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <memory>
+#include <optional>
 #include <vector>
 
 #include "frep/math/morton.hpp"
@@ -46,7 +61,7 @@ enum class Kind : std::uint8_t { Face, Edge, Vertex };
 
 struct Feature {
   Kind kind;
-  std::int8_t side;        // faces: +1 along the normal (outside), -1 against it
+  std::int8_t side;        // faces: +1 along the normal (outside), -1 against it, 0 both (truncated grids)
   std::uint32_t element;   // triangle, edge or vertex index
   double reach = 0;        // no sample farther than this from the feature is owned by it
   int lo[3], hi[3];        // index box of the capped polyhedron within the grid (inclusive)
@@ -68,6 +83,7 @@ struct Shape {
   double spread = 0;  // growth of the cross-section radius per unit of distance
   bool wide = false;  // the cone is too wide to cap along `dir`: bound by the ball around the anchor
   bool cap = true;    // dir . (p - p[0]) <= reach holds on the polyhedron
+  bool both = false;  // face: both sides, so also -dir . (p - p[0]) <= reach
   Vec3 edir;          // edge: unit direction
   Vec3 normal;        // face: unit normal (signed distances for the scan)
   Half h[kMaxPlanes];
@@ -83,6 +99,7 @@ struct Shape {
     base = spread = 0;
     wide = false;
     cap = true;
+    both = false;
   }
   void add(const Vec3& n, const Vec3& through) {
     if (nh < kMaxPlanes) h[nh++] = {n, dot(n, through)};
@@ -157,7 +174,7 @@ bool make_shape(const Context& ctx, const Feature& f, Shape& s) {
       for (int k = 0; k < 3; ++k) s.p[k] = m.corner(f.element, k);
       s.np = 3;
       s.normal = n;
-      s.dir = n * static_cast<double>(f.side);
+      s.dir = f.side < 0 ? -n : n;
       s.anchor = (s.p[0] + s.p[1] + s.p[2]) / 3.0;
       for (int k = 0; k < 3; ++k) s.base = std::max(s.base, length(s.p[k] - s.anchor));
       for (int k = 0; k < 3; ++k) {
@@ -166,8 +183,15 @@ bool make_shape(const Context& ctx, const Feature& f, Shape& s) {
         if (length2(w) == 0) return false;
         s.add(-w, s.p[k]);
       }
-      s.add(-s.dir, s.p[0]);  // on this side of the face
       s.tip[s.ntip++] = s.dir;
+      if (f.side) {
+        s.add(-s.dir, s.p[0]);  // on this side of the face
+      } else {
+        // Both sides at once (truncated grids: one prism through the face instead of two, each
+        // set up on its own; the value is the plane's signed distance either way).
+        s.both = true;
+        s.tip[s.ntip++] = -s.dir;
+      }
       return true;
     }
     case Kind::Edge: {
@@ -297,13 +321,14 @@ Box3 shape_box(const Shape& s, double reach) {
   return b;
 }
 
-// How far the feature can own samples (0: nowhere), by the shell walk described above.
-double find_reach(const Context& ctx, const Shape& s) {
+// How far the feature can own samples (0: nowhere), by the shell walk described above; the walk
+// stops once it reaches `limit` (the band of a truncated grid).
+double find_reach(const Context& ctx, const Shape& s, double limit) {
   const Box3& gb = ctx.grid.bounds;
   const double tol = ctx.margin * 4;
   double reach = 0;
   int hint[3] = {-1, -1, -1};
-  for (int shell = 0;; ++shell) {
+  for (int shell = 0; reach < limit; ++shell) {
     const double t0 = shell * ctx.shell, t1 = t0 + ctx.shell, tm = 0.5 * (t0 + t1);
     Vec3 center = s.anchor;
     double rho = s.base + t1;  // every point within t1 of the feature
@@ -374,9 +399,9 @@ double find_reach(const Context& ctx, const Shape& s) {
   return reach;
 }
 
-// The capped polyhedron's sample-index box within the grid; false if it misses the grid.
-bool index_box(const Context& ctx, const Shape& s, double reach, int lo[3], int hi[3]) {
-  const Box3 b = shape_box(s, reach);
+// The sample-index box of `b` within the grid, a sample wider on each side; false if it misses
+// the grid.
+bool index_box(const Context& ctx, const Box3& b, int lo[3], int hi[3]) {
   for (int a = 0; a < 3; ++a) {
     const int n = ctx.grid.counts[a];
     const double o = ctx.grid.bounds.lo[a];
@@ -386,6 +411,22 @@ bool index_box(const Context& ctx, const Shape& s, double reach, int lo[3], int 
     if (lo[a] > hi[a]) return false;
   }
   return true;
+}
+
+// The box of the points within `r` of a feature (for a truncated grid, the only points whose
+// value a feature can decide), without building its polyhedron.
+Box3 near_box(const Context& ctx, const Feature& f, double r) {
+  Box3 b;
+  switch (f.kind) {
+    case Kind::Face:
+      for (int k = 0; k < 3; ++k) b.add(ctx.mesh.corner(f.element, k));
+      break;
+    case Kind::Edge:
+      for (std::uint32_t v : ctx.topo.edge_vertices(f.element)) b.add(ctx.mesh.vertices[v]);
+      break;
+    case Kind::Vertex: b.add(ctx.mesh.vertices[f.element]); break;
+  }
+  return b.inflated(r);
 }
 
 // Corners of the polyhedron capped at `reach` (its convex hull).
@@ -423,12 +464,69 @@ int hull2(P2* p, int n, P2* h) {
   return n > 1 ? k - 1 : n;
 }
 
+// The scan's scratch: per sample, the smallest squared distance yet and its feature, found row
+// (i, j) by row. Full grids hold every row, in one array; truncated ones give a row its storage
+// when a polyhedron first reaches it, from blocks of the slab that owns the row (so that workers
+// never share a block): memory and its clearing go to the rows near the surface only.
+class RowScratch {
+ public:
+  RowScratch(int nx, int ny, int nz, int slabs)
+      : ny_(ny), nz_(nz), best_(static_cast<std::size_t>(nx) * ny, nullptr), owner_(best_.size(), nullptr),
+        arenas_(static_cast<std::size_t>(slabs)) {}
+  // Every row, cleared in parallel (hundreds of megabytes are a stage of their own on one core).
+  void allocate_all(ThreadPool& pool) {
+    const std::size_t rows = best_.size(), n = rows * static_cast<std::size_t>(nz_);
+    dense_best_.reset(new double[n]);
+    dense_owner_.reset(new std::uint32_t[n]);
+    for (std::size_t r = 0; r < rows; ++r)
+      best_[r] = dense_best_.get() + r * nz_, owner_[r] = dense_owner_.get() + r * nz_;
+    pool.parallel_for_ranges(rows, static_cast<std::size_t>(ny_), [&](int, std::size_t b, std::size_t e) {
+      std::fill(dense_best_.get() + b * nz_, dense_best_.get() + e * nz_, INFINITY);
+      std::fill(dense_owner_.get() + b * nz_, dense_owner_.get() + e * nz_, kNoOwner);
+    });
+  }
+  // Row (i, j)'s storage, made by the worker that owns slab `slab` if it has none yet.
+  void row(int i, int j, int slab, double*& best, std::uint32_t*& owner) {
+    const std::size_t r = static_cast<std::size_t>(i) * ny_ + j;
+    if (!best_[r]) {
+      Arena& a = arenas_[static_cast<std::size_t>(slab)];
+      if (a.used == kBlockRows) a.used = 0;
+      if (a.used == 0) {
+        a.best.emplace_back(new double[kBlockRows * nz_]);
+        a.owner.emplace_back(new std::uint32_t[kBlockRows * nz_]);
+      }
+      best_[r] = a.best.back().get() + a.used * nz_;
+      owner_[r] = a.owner.back().get() + a.used * nz_;
+      ++a.used;
+      std::fill_n(best_[r], nz_, INFINITY);
+      std::fill_n(owner_[r], nz_, kNoOwner);
+    }
+    best = best_[r], owner = owner_[r];
+  }
+  // Row (i, j)'s storage, or nulls if no polyhedron reached it.
+  const double* best(int i, int j) const { return best_[static_cast<std::size_t>(i) * ny_ + j]; }
+  const std::uint32_t* owner(int i, int j) const { return owner_[static_cast<std::size_t>(i) * ny_ + j]; }
+
+ private:
+  static constexpr std::size_t kBlockRows = 64;
+  struct Arena {
+    std::vector<std::unique_ptr<double[]>> best;
+    std::vector<std::unique_ptr<std::uint32_t[]>> owner;
+    std::size_t used = 0;  // rows used in the last block
+  };
+  int ny_, nz_;
+  std::vector<double*> best_;
+  std::vector<std::uint32_t*> owner_;
+  std::unique_ptr<double[]> dense_best_;
+  std::unique_ptr<std::uint32_t[]> dense_owner_;
+  std::vector<Arena> arenas_;
+};
+
 // Scans one feature's polyhedron over the slices [i0, i1) (within its index box): the slices
 // and rows that meet the polyhedron come from its shadow on the (x, y) plane (the hull of its
 // corners' shadows); the run of samples along each z row, from the half-spaces.
 std::uint64_t scan(const Context& ctx, const Shape& s, double reach, std::uint32_t id, const int lo[3],
-                   const int hi[3], int i0, int i1, double* best, std::uint32_t* owner) {
-  const GridSpec& g = ctx.grid;
+                   const int hi[3], int i0, int i1, RowScratch& rows, int slab) {
   const std::vector<double>& X = ctx.coords[0];
   const std::vector<double>& Y = ctx.coords[1];
   const std::vector<double>& Z = ctx.coords[2];
@@ -489,9 +587,9 @@ std::uint64_t scan(const Context& ctx, const Shape& s, double reach, std::uint32
       const int k1 = std::min(hi[2], static_cast<int>(std::clamp(std::floor((zu - z0) / hz + wz), -1.0, 1e9)));
       if (k0 > k1) continue;
       evals += static_cast<std::uint64_t>(k1 - k0 + 1);
-      const std::size_t row = g.index(i, j, 0);
-      double* bd = best + row;
-      std::uint32_t* ow = owner + row;
+      double* bd;
+      std::uint32_t* ow;
+      rows.row(i, j, slab, bd, ow);
       // The feature's squared distance along the row: w = (x, y, z) - p0.
       const double wx = x - s.p[0].x, wy = y - s.p[0].y;
       switch (s.kind) {
@@ -531,7 +629,24 @@ std::uint64_t scan(const Context& ctx, const Shape& s, double reach, std::uint32
   return evals;
 }
 
+// The largest voxel edge of the grid.
+double max_spacing(const GridSpec& grid) {
+  double h = 0;
+  for (int a = 0; a < 3; ++a) h = std::max(h, (grid.bounds.hi[a] - grid.bounds.lo[a]) / (grid.counts[a] - 1));
+  return h;
+}
+
 }  // namespace
+
+double truncation_band(const GridSpec& grid, double truncate) {
+  // The hair (a millionth) is far above the rounding of the distances (1e-12 of the grid's scale,
+  // and the band is at least a voxel, 1/4095 of it) and far below anything a user would see.
+  return std::max(truncate, max_spacing(grid)) * (1 + 1e-6);
+}
+
+bool truncation_scans_band(const GridSpec& grid, double truncate) {
+  return truncate > 0 && truncation_band(grid, truncate) <= kScanBandVoxels * max_spacing(grid);
+}
 
 template <class T>
 void closest_point_transform(const MeshField& field, const GridSpec& grid, ThreadPool& pool, T* out,
@@ -560,27 +675,43 @@ void closest_point_transform(const MeshField& field, const GridSpec& grid, Threa
   ctx.margin = 1e-12 * scale;
   ctx.cell_r = 0.5 * kCell * std::sqrt(ctx.h[0] * ctx.h[0] + ctx.h[1] * ctx.h[1] + ctx.h[2] * ctx.h[2]);
   ctx.shell = kCell * std::min({ctx.h[0], ctx.h[1], ctx.h[2]});
+  // Truncation: values within `band` are exact, every reach is capped at `cap` (the band and what
+  // the rounding of the margins needs), and the walk runs only for wide bands.
+  const double trunc = options.truncate;
+  const bool truncated = trunc > 0;
+  const double band = truncated ? truncation_band(grid, trunc) : INFINITY;
+  const double cap = truncated ? band * (1 + 1e-6) + 16 * ctx.margin : INFINITY;
+  const bool walk = !truncation_scans_band(grid, trunc);
 
-  // 1. Exact distances at the cell centres.
-  report("distance bounds", 0);
-  const std::size_t cells = static_cast<std::size_t>(ctx.ncell[0]) * ctx.ncell[1] * ctx.ncell[2];
-  ctx.cell_dist.resize(cells);
-  pool.parallel_for_ranges(cells, 256, [&](int, std::size_t b, std::size_t e) {
-    for (std::size_t c = b; c < e; ++c) {
-      const int k = static_cast<int>(c % ctx.ncell[2]), j = static_cast<int>((c / ctx.ncell[2]) % ctx.ncell[1]),
-                i = static_cast<int>(c / (static_cast<std::size_t>(ctx.ncell[2]) * ctx.ncell[1]));
-      ctx.cell_dist[c] = md.unsigned_distance(ctx.cell_center(i, j, k));
-    }
-  });
+  // 1. Exact distances at the cell centres (for the walk).
+  if (walk) {
+    report("distance bounds", 0);
+    const std::size_t cells = static_cast<std::size_t>(ctx.ncell[0]) * ctx.ncell[1] * ctx.ncell[2];
+    ctx.cell_dist.resize(cells);
+    pool.parallel_for_ranges(cells, 256, [&](int, std::size_t b, std::size_t e) {
+      for (std::size_t c = b; c < e; ++c) {
+        const int k = static_cast<int>(c % ctx.ncell[2]), j = static_cast<int>((c / ctx.ncell[2]) % ctx.ncell[1]),
+                  i = static_cast<int>(c / (static_cast<std::size_t>(ctx.ncell[2]) * ctx.ncell[1]));
+        ctx.cell_dist[c] = md.unsigned_distance(ctx.cell_center(i, j, k));
+      }
+    });
+  }
 
   // 2. Features and how far each reaches.
   report("polyhedra", 0.1);
   std::vector<Feature> features;
   features.reserve(2 * mesh.triangles.size() + topo.num_edges() + topo.num_vertices());
+  // Without the walk, a face's two sides are one feature, in the place of its outer side:
+  // features keep their order, so ties between features (the lower index wins) go the same way
+  // as in a full grid, and a face's value does not depend on its side.
   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
     if (topo.usable(t)) {
-      features.push_back({Kind::Face, 1, t, 0, {}, {}});
-      features.push_back({Kind::Face, -1, t, 0, {}, {}});
+      if (walk) {
+        features.push_back({Kind::Face, 1, t, 0, {}, {}});
+        features.push_back({Kind::Face, -1, t, 0, {}, {}});
+      } else {
+        features.push_back({Kind::Face, 0, t, 0, {}, {}});
+      }
     }
   for (std::uint32_t e = 0; e < topo.num_edges(); ++e) features.push_back({Kind::Edge, 0, e, 0, {}, {}});
   for (std::uint32_t v = 0; v < topo.num_vertices(); ++v)
@@ -589,92 +720,168 @@ void closest_point_transform(const MeshField& field, const GridSpec& grid, Threa
   {
     // Spatial order (Morton code of a point of the feature): consecutive features then touch
     // neighbouring rows of the scratch grids, which keeps the scan in cache.
+    // Keys are unique (the index breaks ties), so sorting runs in parallel and merging them gives
+    // the one sorted order.
     std::vector<std::pair<std::uint64_t, std::uint32_t>> key(features.size());
     const Box3& gb = grid.bounds;
-    for (std::size_t i = 0; i < features.size(); ++i) {
-      const Feature& f = features[i];
-      const Vec3 p = f.kind == Kind::Face ? mesh.corner(f.element, 0)
-                     : f.kind == Kind::Edge ? mesh.vertices[topo.edge_vertices(f.element)[0]]
-                                            : mesh.vertices[f.element];
-      std::uint64_t code = 0;
-      for (int a = 0; a < 3; ++a) {
-        const double u = std::clamp((p[a] - gb.lo[a]) / (gb.hi[a] - gb.lo[a]), 0.0, 1.0);
-        code |= morton_spread(static_cast<std::uint64_t>(u * kMortonCells)) << (2 - a);
+    const std::size_t parts = static_cast<std::size_t>(pool.size());
+    const auto part = [&](std::size_t k) { return key.begin() + static_cast<std::ptrdiff_t>(key.size() * k / parts); };
+    pool.parallel_for(static_cast<int>(parts), [&](int, int k) {
+      const std::size_t b = key.size() * static_cast<std::size_t>(k) / parts, e = key.size() * (static_cast<std::size_t>(k) + 1) / parts;
+      for (std::size_t i = b; i < e; ++i) {
+        const Feature& f = features[i];
+        const Vec3 p = f.kind == Kind::Face ? mesh.corner(f.element, 0)
+                       : f.kind == Kind::Edge ? mesh.vertices[topo.edge_vertices(f.element)[0]]
+                                              : mesh.vertices[f.element];
+        std::uint64_t code = 0;
+        for (int a = 0; a < 3; ++a) {
+          const double u = std::clamp((p[a] - gb.lo[a]) / (gb.hi[a] - gb.lo[a]), 0.0, 1.0);
+          code |= morton_spread(static_cast<std::uint64_t>(u * kMortonCells)) << (2 - a);
+        }
+        key[i] = {code, static_cast<std::uint32_t>(i)};
       }
-      key[i] = {code, static_cast<std::uint32_t>(i)};
-    }
-    std::sort(key.begin(), key.end());
+      std::sort(part(static_cast<std::size_t>(k)), part(static_cast<std::size_t>(k) + 1));
+    });
+    for (std::size_t w = 1; w < parts; w *= 2)
+      for (std::size_t k = 0; k + w < parts; k += 2 * w) std::inplace_merge(part(k), part(k + w), part(std::min(k + 2 * w, parts)));
     std::vector<Feature> sorted(features.size());
     for (std::size_t i = 0; i < key.size(); ++i) sorted[i] = features[key[i].second];
     features.swap(sorted);
   }
+  // A feature decides only samples within the cap of it (truncated grids): its index box is cut
+  // to them. Without the walk, polyhedra are built in the scan only (building one is a good part
+  // of the work for a narrow band), and features without one are dropped there.
   pool.parallel_for_ranges(features.size(), 512, [&](int, std::size_t b, std::size_t e) {
     Shape s;
     for (std::size_t i = b; i < e; ++i) {
       Feature& f = features[i];
       f.reach = 0;
+      if (!walk) {
+        if (index_box(ctx, near_box(ctx, f, cap), f.lo, f.hi)) f.reach = cap;
+        continue;
+      }
       if (!make_shape(ctx, f, s)) continue;
-      f.reach = find_reach(ctx, s);
-      if (f.reach > 0 && !index_box(ctx, s, f.reach, f.lo, f.hi)) f.reach = 0;
+      f.reach = std::min(find_reach(ctx, s, cap), cap);
+      if (f.reach <= 0) continue;
+      Box3 box = shape_box(s, f.reach);
+      if (truncated) {
+        const Box3 near = near_box(ctx, f, cap);
+        box = {max(box.lo, near.lo), min(box.hi, near.hi)};
+      }
+      if (!index_box(ctx, box, f.lo, f.hi)) f.reach = 0;
     }
   });
 
   if (debug) {
+    std::fprintf(stderr, "cpt reaches done   %.3f s\n", std::chrono::duration<double>(std::chrono::steady_clock::now() - tstart).count());
     double sum[3] = {0, 0, 0}; std::size_t cnt[3] = {0, 0, 0}, wide[3] = {0, 0, 0}, zero[3] = {0, 0, 0};
     Shape sh;
     for (const Feature& f : features) {
       const int k = static_cast<int>(f.kind);
-      if (f.reach <= 0) { ++zero[k]; continue; }
-      make_shape(ctx, f, sh);
+      if (f.reach <= 0 || !make_shape(ctx, f, sh)) { ++zero[k]; continue; }
       ++cnt[k]; sum[k] += f.reach / ctx.shell; wide[k] += sh.wide;
     }
     for (int k = 0; k < 3; ++k) std::fprintf(stderr, "kind %d: %zu used, %zu unused, %zu wide, mean reach %.2f shells\n", k, cnt[k], zero[k], wide[k], cnt[k] ? sum[k] / cnt[k] : 0.0);
   }
-  // 3. Scan, slab by slab of slices: each slab is one worker's, so no two workers write the same
-  // sample, and ties go to the lower feature index, so the result does not depend on the order.
+  // 3. Scan. Workers own slabs of slices, so that no two write the same sample, and ties go to
+  // the lower feature index, so the result does not depend on the order. A feature whose slices
+  // fit in its first slab (its home) and the next is scanned whole from its home: even homes
+  // first, then odd ones, so that the two slabs a worker writes are written by no other worker
+  // meanwhile. Longer features are scanned slab by slab, their polyhedron built again in each.
   report("scan", 0.25);
+  const auto tscan = std::chrono::steady_clock::now();
   const std::size_t n = grid.size();
-  std::vector<double> best(n, INFINITY);
-  std::vector<std::uint32_t> owner(n, kNoOwner);
-  const int nx = grid.counts[0];
+  const int nx = grid.counts[0], ny = grid.counts[1], nz = grid.counts[2];
   const int slabs = std::min(nx, 8 * pool.size());
-  auto slab_begin = [&](int s) { return static_cast<int>(static_cast<long long>(nx) * s / slabs); };
-  std::vector<std::vector<std::uint32_t>> buckets(static_cast<std::size_t>(slabs));
-  std::size_t used = 0;
+  std::optional<RowScratch> rows(std::in_place, nx, ny, nz, slabs);
+  if (!truncated) rows->allocate_all(pool);
+  auto slab_begin = [&](int s) { return static_cast<int>(static_cast<long long>(nx) * std::min(s, slabs) / slabs); };
+  std::vector<std::vector<std::uint32_t>> homes(static_cast<std::size_t>(slabs)), longs(static_cast<std::size_t>(slabs));
   for (std::uint32_t i = 0; i < features.size(); ++i) {
     const Feature& f = features[i];
     if (f.reach <= 0) continue;
-    ++used;
-    for (int s = 0; s < slabs; ++s)
-      if (f.lo[0] < slab_begin(s + 1) && f.hi[0] >= slab_begin(s)) buckets[static_cast<std::size_t>(s)].push_back(i);
+    // The home: from the slab before the one the division points at (it rounds).
+    int home = std::max(0, static_cast<int>(static_cast<long long>(f.lo[0]) * slabs / nx) - 1);
+    while (slab_begin(home + 1) <= f.lo[0]) ++home;
+    if (f.hi[0] < slab_begin(home + 2)) {
+      homes[static_cast<std::size_t>(home)].push_back(i);
+      continue;
+    }
+    for (int s = home; s < slabs && slab_begin(s) <= f.hi[0]; ++s) longs[static_cast<std::size_t>(s)].push_back(i);
+  }
+  if (debug) {
+    std::size_t short_count = 0, long_entries = 0;
+    for (int s = 0; s < slabs; ++s) short_count += homes[s].size(), long_entries += longs[s].size();
+    std::fprintf(stderr, "%d slabs, %zu features within two slabs, %zu (slab, feature) pairs for the others\n", slabs,
+                 short_count, long_entries);
   }
   std::atomic<std::uint64_t> evaluations{0};
-  std::atomic<int> slabs_done{0};
-  pool.parallel_for(slabs, [&](int, int s) {
+  std::atomic<std::size_t> used{0};
+  std::atomic<int> items_done{0};
+  const auto scan_slab = [&](int s, const std::vector<std::uint32_t>& ids, bool whole) {
     Shape sh;
     std::uint64_t ev = 0;
-    for (std::uint32_t id : buckets[static_cast<std::size_t>(s)]) {
+    std::size_t built = 0;
+    for (std::uint32_t id : ids) {
       const Feature& f = features[id];
       if (!make_shape(ctx, f, sh)) continue;
+      built += whole || f.lo[0] >= slab_begin(s);  // counted once
       if (sh.cap) sh.add(sh.dir, sh.p[0] + sh.dir * f.reach);
-      ev += scan(ctx, sh, f.reach, id, f.lo, f.hi, slab_begin(s), slab_begin(s + 1), best.data(), owner.data());
+      if (sh.both) sh.add(-sh.dir, sh.p[0] - sh.dir * f.reach);
+      ev += scan(ctx, sh, f.reach, id, f.lo, f.hi, slab_begin(s), slab_begin(whole ? s + 2 : s + 1), *rows, s);
     }
     evaluations += ev;
-    report("scan", 0.25 + 0.6 * (++slabs_done) / slabs);
-  });
+    used += built;
+    report("scan", 0.25 + 0.6 * (++items_done) / (2 * slabs));
+  };
+  for (int parity : {0, 1})
+    pool.parallel_for((slabs + 1 - parity) / 2, [&](int, int h) {
+      const int s = 2 * h + parity;
+      scan_slab(s, homes[static_cast<std::size_t>(s)], true);
+    });
+  pool.parallel_for(slabs, [&](int, int s) { scan_slab(s, longs[static_cast<std::size_t>(s)], false); });
+  if (debug) std::fprintf(stderr, "cpt scan took     %.3f s\n", std::chrono::duration<double>(std::chrono::steady_clock::now() - tscan).count());
 
   // 4. Each sample's value from the feature that won it, with MeshDistance's formulas and signs.
+  // Truncated: only samples within the band; the others are marked (NaN) and, row by row, given
+  // +-D by the side of a band sample beside them in the row (both ends of a run agree). A
+  // winner's distance is at least the scan's (for an edge, the distance to its face is at least
+  // the distance to its line), so a sample whose scanned distance is beyond the band is skipped.
   report("signs", 0.85);
-  std::atomic<std::size_t> fallback{0};
-  const int ny = grid.counts[1], nz = grid.counts[2];
+  const T beyond = std::numeric_limits<T>::quiet_NaN();
+  const T plus = static_cast<T>(trunc), minus = static_cast<T>(-trunc);
+  const auto side = [&](T v) { return v > 0 ? plus : minus; };
+  const double skip2 = band * band * (1 + 1e-9);
+  // A sample's side from the oracle: only where the argument at the top gives none (a grid
+  // without a band sample; defensively, a run beside band samples at 0 only).
+  std::atomic<std::size_t> queries{0};
+  const auto oracle_side = [&](int i, int j, int k) {
+    ++queries;
+    const Vec3 p{ctx.coords[0][static_cast<std::size_t>(i)], ctx.coords[1][static_cast<std::size_t>(j)],
+                 ctx.coords[2][static_cast<std::size_t>(k)]};
+    return field.signed_distance(p) > 0 ? plus : minus;
+  };
+  // Truncated: rows (i, j) settled in this step (they hold a band sample); the others are left
+  // to the flood fill of step 5.
+  std::vector<std::uint8_t> resolved(truncated ? static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny) : 0, 0);
+  std::atomic<std::size_t> fallback{0}, in_band{0};
   pool.parallel_for(nx, [&](int, int i) {
-    std::size_t fb = 0;
-    for (int j = 0; j < ny; ++j)
+    std::size_t fb = 0, nb = 0;
+    for (int j = 0; j < ny; ++j) {
+      const std::size_t row = grid.index(i, j, 0);
+      const double* best = rows->best(i, j);
+      const std::uint32_t* owner = rows->owner(i, j);
+      if (!best) continue;  // truncated: a row no polyhedron reached, left to step 5
+      std::size_t row_band = 0;
       for (int k = 0; k < nz; ++k) {
-        const std::size_t idx = grid.index(i, j, k);
+        const std::size_t idx = row + static_cast<std::size_t>(k);
+        const std::uint32_t o = owner[k];
+        if (truncated && (o == kNoOwner || best[k] > skip2)) {
+          out[idx] = beyond;
+          continue;
+        }
         const Vec3 p{ctx.coords[0][static_cast<std::size_t>(i)], ctx.coords[1][static_cast<std::size_t>(j)],
                      ctx.coords[2][static_cast<std::size_t>(k)]};
-        const std::uint32_t o = owner[idx];
         double v;
         if (o == kNoOwner) {
           ++fb;
@@ -703,12 +910,74 @@ void closest_point_transform(const MeshField& field, const GridSpec& grid, Threa
             default: v = field.signed_distance(p);
           }
         }
+        if (truncated) {
+          if (!(std::fabs(v) <= band)) {
+            out[idx] = beyond;
+            continue;
+          }
+          ++row_band;
+          v = std::clamp(v, -trunc, trunc);
+        }
         out[idx] = static_cast<T>(v);
       }
+      if (!row_band) continue;
+      nb += row_band;
+      // The row's runs beyond the band.
+      T* r = out + row;
+      int run = -1;  // first sample of the current run without a side yet
+      T last = 0;    // the last band sample's value (0: none yet, or one on the surface)
+      for (int k = 0; k < nz; ++k) {
+        const T v = r[k];
+        if (std::isnan(v)) {
+          if (last != 0) r[k] = side(last);
+          else if (run < 0) run = k;
+          continue;
+        }
+        last = v;
+        if (run >= 0 && v != 0) {
+          std::fill(r + run, r + k, side(v));
+          run = -1;
+        }
+      }
+      if (run >= 0) std::fill(r + run, r + nz, oracle_side(i, j, run));
+      resolved[static_cast<std::size_t>(i) * ny + j] = 1;
+    }
     fallback += fb;
+    in_band += nb;
   });
+  rows.reset();
+
+  // 5. Truncated: rows entirely beyond the band, by a flood fill over the (i, j) rows from the
+  // settled ones. Such a row is one region, on the side of the samples beside it in a
+  // neighbouring row.
+  if (truncated) {
+    report("sides", 0.95);
+    std::vector<std::uint32_t> queue;
+    for (std::uint32_t r = 0; r < resolved.size(); ++r)
+      if (resolved[r]) queue.push_back(r);
+    if (queue.empty()) {
+      // No band sample: the grid is one region on one side.
+      std::fill(out, out + n, oracle_side(0, 0, 0));
+    } else {
+      for (std::size_t q = 0; q < queue.size(); ++q) {
+        const int i = static_cast<int>(queue[q] / ny), j = static_cast<int>(queue[q] % ny);
+        const T from = out[grid.index(i, j, 0)];
+        const int ni[4] = {i - 1, i + 1, i, i}, nj[4] = {j, j, j - 1, j + 1};
+        for (int e = 0; e < 4; ++e) {
+          if (ni[e] < 0 || ni[e] >= nx || nj[e] < 0 || nj[e] >= ny) continue;
+          const std::uint32_t r = static_cast<std::uint32_t>(ni[e]) * ny + nj[e];
+          if (resolved[r]) continue;
+          resolved[r] = 1;
+          std::fill_n(out + grid.index(ni[e], nj[e], 0), nz, from != 0 ? side(from) : oracle_side(ni[e], nj[e], 0));
+          queue.push_back(r);
+        }
+      }
+    }
+    stats.side_queries = queries;
+  }
   stats.features = used;
   stats.evaluations = evaluations;
+  stats.band_samples = in_band;
   stats.fallback_samples = fallback;
   report("done", 1);
 }

@@ -48,6 +48,11 @@ Box3 default_mesh_bounds(const Box3& b, double margin) {
 
 namespace {
 
+void check_truncation(double d) {
+  if (!(d >= 0) || !std::isfinite(d))
+    throw InputError("", 0, "the truncation distance must be a finite number > 0 (0: no truncation), got " + std::to_string(d));
+}
+
 std::string grid_job(const GridSpec& g) {
   return "a grid of " + std::to_string(g.counts[0]) + " x " + std::to_string(g.counts[1]) + " x " +
          std::to_string(g.counts[2]) + " samples";
@@ -56,20 +61,34 @@ std::string grid_job(const GridSpec& g) {
 template <class T>
 std::vector<T> sample_mesh(const MeshField& field, const GridSpec& grid, const MeshGridOptions& o, MeshGridStats* st) {
   grid.check();
+  check_truncation(o.truncate);
   const auto t0 = std::chrono::steady_clock::now();
-  const bool inside = grid.bounds.contains(field.box().lo) && grid.bounds.contains(field.box().hi);
+  // The transform's reach walk needs the whole mesh in the grid; a truncated transform with a
+  // narrow band does without it (see cpt.hpp).
+  const bool inside = (grid.bounds.contains(field.box().lo) && grid.bounds.contains(field.box().hi)) ||
+                      sample_detail::truncation_scans_band(grid, o.truncate);
   const bool cpt_ok = field.solid() && field.sign() == SignMethod::Pseudonormal && inside;
   MeshGridStats stats;
   stats.method = o.method == MeshGridMethod::Auto ? (cpt_ok ? MeshGridMethod::Cpt : MeshGridMethod::Queries) : o.method;
   if (stats.method == MeshGridMethod::Cpt && !cpt_ok)
     throw InputError("", 0,
                      field.solid() && field.sign() == SignMethod::Pseudonormal
-                         ? "the closest point transform needs grid bounds that contain the mesh"
+                         ? "the closest point transform needs grid bounds that contain the mesh (or a truncation of "
+                           "at most " + std::to_string(static_cast<int>(sample_detail::kScanBandVoxels)) + " voxels)"
                          : "the closest point transform needs a valid solid with pseudonormal signs (" +
                                field.summary() + ")");
-  // The output, and the transform's nearest squared distance (double) and owner per sample.
-  const std::uint64_t per_sample = sizeof(T) + (stats.method == MeshGridMethod::Cpt ? 12 : 0);
-  require_memory(grid.size(), per_sample, grid_job(grid), "sample a smaller grid");
+  // The output, and the transform's nearest squared distance (double) and owner per sample: of
+  // every sample, or for a truncated grid, of the rows (i, j) within the band of the mesh's box.
+  std::uint64_t scratch = stats.method == MeshGridMethod::Cpt ? grid.size() : 0;
+  if (scratch && o.truncate > 0) {
+    const Box3 near = field.box().inflated(2 * sample_detail::truncation_band(grid, o.truncate));
+    std::uint64_t along[2] = {0, 0};
+    for (int a = 0; a < 2; ++a)
+      for (int i = 0; i < grid.counts[a]; ++i) along[a] += grid.coord(a, i) >= near.lo[a] && grid.coord(a, i) <= near.hi[a];
+    scratch = along[0] * along[1] * static_cast<std::uint64_t>(grid.counts[2]);
+  }
+  require_memory(grid.size(), sizeof(T) + (12 * scratch + grid.size() - 1) / grid.size(), grid_job(grid),
+                 "sample a smaller grid");
   std::vector<T> out(grid.size());
   ThreadPool pool(o.threads);
   if (stats.method == MeshGridMethod::Cpt) {
@@ -79,12 +98,14 @@ std::vector<T> sample_mesh(const MeshField& field, const GridSpec& grid, const M
     for (int j = 0; j < grid.counts[1]; ++j) ys[static_cast<std::size_t>(j)] = grid.coord(1, j);
     for (int k = 0; k < grid.counts[2]; ++k) zs[static_cast<std::size_t>(k)] = grid.coord(2, k);
     std::atomic<int> done{0};
+    // Truncated: every sample is queried and clamped (the oracle is exact, so the clamp is too).
+    const double d = o.truncate > 0 ? o.truncate : INFINITY;
     pool.parallel_for(grid.counts[0], [&](int, int i) {
       const double x = grid.coord(0, i);
       for (int j = 0; j < grid.counts[1]; ++j)
         for (int k = 0; k < grid.counts[2]; ++k)
-          out[grid.index(i, j, k)] =
-              static_cast<T>(field.signed_distance({x, ys[static_cast<std::size_t>(j)], zs[static_cast<std::size_t>(k)]}));
+          out[grid.index(i, j, k)] = static_cast<T>(std::clamp(
+              field.signed_distance({x, ys[static_cast<std::size_t>(j)], zs[static_cast<std::size_t>(k)]}), -d, d));
       if (o.progress) o.progress("queries", static_cast<double>(++done) / grid.counts[0]);
     });
   }
@@ -107,6 +128,9 @@ std::vector<double> sample_grid_f64(const MeshField& field, const GridSpec& grid
 
 std::vector<float> sample_grid(const Tape& tape, const GridSpec& grid, const ExprGridOptions& options) {
   grid.check();
+  check_truncation(options.truncate);
+  if (!(options.lipschitz >= 0) || !std::isfinite(options.lipschitz))
+    throw std::invalid_argument("the Lipschitz bound must be finite and >= 0");
   FREP_ASSERT(!tape.code().empty(), "grid sampling needs a tape with register code");
   const std::vector<int>& tiles = options.tiles;
   if (tiles.empty() || tiles.back() < 1 || !std::is_sorted(tiles.rbegin(), tiles.rend()))
@@ -121,11 +145,13 @@ std::vector<float> sample_grid(const Tape& tape, const GridSpec& grid, const Exp
   SampleGrid sg;
   sg.coords = std::move(coords);
   sg.check("grid");
-  // The subdivision driver without a breadth-first frontier: a sampler settles no box, so a
+  // The subdivision driver without a breadth-first frontier: a dense sampler settles no box, so a
   // frontier would keep a simplified tape for every box of its levels (for a converted mesh of
   // millions of instructions, more than 14 GB at 64^3); this way each worker keeps one group of
-  // tapes per level.
-  Subdivider driver({tiles, options.threads, 0});
+  // tapes per level. A truncated one settles the boxes beyond +-D, also from their centre's value
+  // with a Lipschitz bound (useless otherwise: the centres would be evaluated for nothing).
+  const double trunc = options.truncate;
+  Subdivider driver({tiles, options.threads, 0, trunc > 0 ? options.lipschitz : 0});
   struct Scratch {
     BatchEvaluator batch;
     std::vector<float> xs, ys, zs, vs;
@@ -136,7 +162,20 @@ std::vector<float> sample_grid(const Tape& tape, const GridSpec& grid, const Exp
     const GridSpec& grid;
     std::vector<Scratch>& scratch;
     std::vector<float>& out;
-    bool settled(int, const IndexBox&, Interval) { return false; }
+    double trunc;
+    // Truncated: a box whose values all lie beyond +-D is +-D wherever the clamp is taken (a value
+    // of exactly D is float(D) itself).
+    bool settled(int, const IndexBox& b, Interval v) {
+      if (!(trunc > 0)) return false;
+      float fill;
+      if (static_cast<double>(v.lo) >= trunc) fill = static_cast<float>(trunc);
+      else if (static_cast<double>(v.hi) <= -trunc) fill = static_cast<float>(-trunc);
+      else return false;
+      const std::size_t nz = static_cast<std::size_t>(b.extent(2));
+      for (int i = b.lo[0]; i < b.hi[0]; ++i)
+        for (int j = b.lo[1]; j < b.hi[1]; ++j) std::fill_n(out.data() + grid.index(i, j, b.lo[2]), nz, fill);
+      return true;
+    }
     // A leaf: its samples in C order, evaluated in one batch and copied row by row.
     void leaf(int wi, const Tape& t, const IndexBox& b) {
       Scratch& w = scratch[static_cast<std::size_t>(wi)];
@@ -152,11 +191,13 @@ std::vector<float> sample_grid(const Tape& tape, const GridSpec& grid, const Exp
             w.zs[n] = sg.coords[2][static_cast<std::size_t>(k)];
           }
       w.batch.eval(t, w.xs.data(), w.ys.data(), w.zs.data(), w.vs.data(), count);
+      if (trunc > 0)
+        for (float& v : w.vs) v = static_cast<float>(std::clamp(static_cast<double>(v), -trunc, trunc));
       n = 0;
       for (int i = b.lo[0]; i < b.hi[0]; ++i)
         for (int j = b.lo[1]; j < b.hi[1]; ++j, n += nz) std::copy_n(w.vs.data() + n, nz, out.data() + grid.index(i, j, b.lo[2]));
     }
-  } visitor{sg, grid, scratch, out};
+  } visitor{sg, grid, scratch, out, trunc};
   driver.run(tape, sg, visitor);
   return out;
 }

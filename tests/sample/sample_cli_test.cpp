@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -189,6 +190,52 @@ TEST_F(SampleCommand, Errors) {
   EXPECT_NE(r.err.find("no/such/dir/out.npy"), std::string::npos) << r.err;
   // No output appeared for any failure.
   EXPECT_EQ(files(), (std::vector<std::string>{"ball.vm", "garbage.vm", "open.obj"}));
+}
+
+// --truncate D: the untruncated grid clamped to [-D, D], bit for bit, for a mesh (the closest
+// point transform) and an expression (the pruned evaluator); the summary says it is truncated.
+TEST_F(SampleCommand, Truncated) {
+  const std::string full = path("full.npy"), cut = path("cut.npy");
+  const std::string ball = path("ball.vm");
+  std::ofstream(ball) << "_0 var-x\n_1 var-y\n_2 var-z\n_3 square _0\n_4 square _1\n_5 square _2\n_6 add _3 _4\n"
+                         "_7 add _6 _5\n_8 sqrt _7\n_9 const 0.5\n_a sub _8 _9\n";
+  for (const std::string& input : {kBracket, ball}) {
+    for (const char* d : {"0.01", "0.05", "0.2"}) {
+      ASSERT_EQ(run("sample '" + input + "' --grid 24 -q -o '" + full + "'").code, 0);
+      const CliRun r = run("sample '" + input + "' --grid 24 --truncate " + d + " -o '" + cut + "'");
+      ASSERT_EQ(r.code, 0) << r.err;
+      EXPECT_NE(r.out.find(std::string("truncated at +-") + d), std::string::npos) << r.out;
+      const NpyArray a = read_npy(full), b = read_npy(cut);
+      ASSERT_EQ(a.shape, b.shape);
+      const double dv = std::stod(d);
+      std::size_t clamped = 0;
+      for (std::size_t i = 0; i < a.data.size(); ++i) {
+        const float want = static_cast<float>(std::clamp(static_cast<double>(a.data[i]), -dv, dv));
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(b.data[i]), std::bit_cast<std::uint32_t>(want))
+            << input << " --truncate " << d << ": sample " << i << " = " << b.data[i] << ", want " << want;
+        clamped += std::fabs(a.data[i]) > dv;
+      }
+      EXPECT_GT(clamped, 0u) << input << " " << d;
+    }
+  }
+  // In the help text.
+  const CliRun h = run("sample --help");
+  EXPECT_EQ(h.code, 0);
+  EXPECT_NE(h.out.find("--truncate"), std::string::npos) << h.out;
+}
+
+// --truncate needs a grid and a finite distance > 0: anything else is a bad command line.
+TEST_F(SampleCommand, TruncateErrors) {
+  const std::string out = path("out.npy");
+  const std::string b = "'" + kBracket + "' -o '" + out + "'";
+  for (const char* bad : {"--points 10 --truncate 0.1", "--near-surface 10 --sigma 0.01 --truncate 0.1",
+                          "--truncate 0.1", "--grid 8 --truncate 0", "--grid 8 --truncate -0.1",
+                          "--grid 8 --truncate nan", "--grid 8 --truncate inf", "--grid 8 --truncate x"}) {
+    const CliRun r = run("sample " + b + " " + bad);
+    EXPECT_EQ(r.code, 2) << bad << ": " << r.err;
+    EXPECT_NE(r.err.find("--truncate"), std::string::npos) << bad << ": " << r.err;
+  }
+  EXPECT_TRUE(files().empty());
 }
 
 // Outputs are replaced whole or not at all: a failing run leaves the old file, a good run

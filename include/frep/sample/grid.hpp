@@ -9,6 +9,14 @@
 // (scan conversion of each feature's characteristic polyhedron, see docs/sampling.md) for valid
 // solids with pseudonormal signs, else by one oracle query per sample. From an expression: the
 // pruned evaluator (interval simplification depth first, SIMD batches at the leaves), in float32.
+//
+// Truncated grids (the `truncate` options, D > 0): every value is clamp(f, -D, D), bit for bit what
+// clamping the untruncated grid gives, but only what that needs is computed: the transform scans
+// each polyhedron to about D and gives the samples beyond the band their side by a flood fill;
+// the expression sampler settles whole boxes whose values all lie beyond +-D. (sample_grid_f64:
+// the transform and the oracle queries agree once rounded to float32, not in the last bits of a
+// double, and on bounds that cut the mesh a narrow truncated grid comes from the transform where
+// the full grid comes from queries.)
 #pragma once
 
 #include <array>
@@ -58,15 +66,18 @@ enum class MeshGridMethod {
 struct MeshGridOptions {
   MeshGridMethod method = MeshGridMethod::Auto;
   int threads = 0;  // 0: all cores
+  double truncate = 0;  // D > 0: values clamped to [-D, D], exact within D of the surface (Queries: each sample clamped); 0: off
   // Called now and then with a stage name and the fraction of the whole job done (0 to 1).
   std::function<void(const char* stage, double fraction)> progress;
 };
 
 struct MeshGridStats {
   MeshGridMethod method = MeshGridMethod::Queries;  // the one that ran
-  std::size_t features = 0;        // CPT: characteristic polyhedra scanned (faces count twice)
+  std::size_t features = 0;        // CPT: characteristic polyhedra scanned (faces count twice, once in narrow truncated grids)
   std::uint64_t evaluations = 0;   // CPT: feature distances computed at grid samples
   std::size_t fallback_samples = 0;  // CPT: samples no polyhedron reached, answered by the oracle (0 expected)
+  std::size_t band_samples = 0;      // CPT, truncated: samples computed exactly (the rest got +-D by their side)
+  std::size_t side_queries = 0;      // CPT, truncated: oracle queries for a side (1 for a grid the surface misses, else 0)
   double seconds = 0;
 };
 
@@ -80,10 +91,14 @@ std::vector<double> sample_grid_f64(const MeshField& field, const GridSpec& grid
 struct ExprGridOptions {
   int threads = 0;                         // 0: all cores
   std::vector<int> tiles = {64, 16, 4};    // subdivision levels, box edge in samples (largest first)
+  double truncate = 0;                     // D > 0: values clamped to [-D, D]; boxes entirely beyond +-D are filled unevaluated; 0: off
+  double lipschitz = 0;                    // with truncate: a bound L on |f(p) - f(q)| / |p - q| (FieldInfo::lipschitz) also
+                                           // settles boxes whose centre value is beyond D + L r; 0: unknown
 };
 
 // f(x_i, y_j, z_k) of a compiled expression (register code: Tape::compile) at every sample, with
-// coordinates rounded to float32; values are bit-identical to BatchEvaluator on the full tape.
+// coordinates rounded to float32; values are bit-identical to BatchEvaluator on the full tape
+// (clamped to +-truncate when asked).
 std::vector<float> sample_grid(const Tape& tape, const GridSpec& grid, const ExprGridOptions& options = {});
 
 }  // namespace frep
