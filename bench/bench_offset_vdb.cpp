@@ -77,7 +77,9 @@ int run_vdb(bool shell, const std::string& path, double amount, int res, const s
   double iso = shell ? 0.0 : a;
   if (shell) {
     const float half = a / 2;
-    for (auto it = grid->beginValueOn(); it; ++it) it.setValue(std::fabs(it.getValue() + half) - half);
+    // Every value, tiles too: the inside's inactive tiles hold -background, which must become
+    // positive (inside the solid but outside the wall).
+    for (auto it = grid->beginValueAll(); it; ++it) it.setValue(std::fabs(it.getValue() + half) - half);
   }
   std::vector<openvdb::Vec3s> vp;
   std::vector<openvdb::Vec3I> vt;

@@ -187,7 +187,7 @@ bool LeafMesher::process(const Tape& tape, const IndexBox& box, LeafRecord& out)
   }
   if (o_.method == MeshMethod::DualContouring) {
     find_normals(tape);
-    place_vertices_dc(out);
+    place_vertices_dc(tape, out);
   } else {
     place_vertices_snap(tape, out);
   }
@@ -422,8 +422,11 @@ void LeafMesher::find_normals(const Tape& tape) {
   }
 }
 
-void LeafMesher::place_vertices_dc(LeafRecord& out) {
+void LeafMesher::place_vertices_dc(const Tape& tape, LeafRecord& out) {
   const double h = grid_.h;
+  // Vertices of cells whose crossings span one direction of normals (a smooth or flat piece of
+  // surface: no edge or corner to keep) move onto the surface afterwards.
+  smooth_.clear();
   for (std::size_t j = 0; j < out.cells.size(); ++j) {
     SurfaceCell& sc = out.cells[j];
     const std::size_t base = cell_index_[j];
@@ -450,6 +453,11 @@ void LeafMesher::place_vertices_dc(LeafRecord& out) {
       }
       local[v] = q.solve_in(cell, o_.qef_threshold, kSlack);
       out.normals.push_back(Vec3f(normalized_or_zero(nsum.x, nsum.y, nsum.z)));
+      if (topo.vertices == 1 && q.planes() > 0 && q.points() == q.planes()) {
+        int rank = 0;
+        q.solve(o_.qef_threshold, 3, &rank);
+        if (rank == 1) smooth_.push_back(static_cast<std::uint32_t>(out.positions.size()));
+      }
     }
     // Several pieces of surface in one cell: each vertex at the centroid of its own crossings,
     // which keeps the pieces apart (the assembly keeps their triangles inside the cell).
@@ -461,6 +469,39 @@ void LeafMesher::place_vertices_dc(LeafRecord& out) {
       out.mass.push_back(to_f32_inside(lo + max(cell.lo, min(cell.hi, qefs[v].mass_point())) * h, inside));
       out.piece.push_back(static_cast<std::uint8_t>(v | topo.vertices << 4));
     }
+  }
+  if (!smooth_.empty()) project_smooth_vertices(tape, out);
+}
+
+void LeafMesher::project_smooth_vertices(const Tape& tape, LeafRecord& out) {
+  // One Newton step onto the surface, p - f(p) grad f / |grad f|^2: a vertex at its crossings'
+  // tangent plane is off a curved surface by its sag over the cell, which the step removes to
+  // second order. Steps longer than half a cell are not taken; the vertex stays in its cell, as
+  // the QEF kept it.
+  const std::size_t m = smooth_.size();
+  xs_.resize(m), ys_.resize(m), zs_.resize(m), grads_.resize(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    const Vec3& p = out.positions[smooth_[i]];
+    xs_[i] = static_cast<float>(p.x), ys_[i] = static_cast<float>(p.y), zs_[i] = static_cast<float>(p.z);
+  }
+  grad_.eval(tape, xs_.data(), ys_.data(), zs_.data(), grads_.data(), m);
+  const double h = grid_.h;
+  for (std::size_t i = 0; i < m; ++i) {
+    const Grad& g = grads_[i];
+    const Vec3 d{g.dx, g.dy, g.dz};
+    const double d2 = length2(d);
+    if (!(d2 > 0) || !std::isfinite(d2) || !std::isfinite(g.v)) continue;
+    const Vec3 step = d * (g.v / d2);
+    if (!(length2(step) <= 0.25 * h * h)) continue;
+    Vec3& p = out.positions[smooth_[i]];
+    // The vertex's cell (positions are inside it by kInside cells).
+    Vec3 lo, hi;
+    for (int a = 0; a < 3; ++a) {
+      const int c = std::clamp(static_cast<int>(std::floor((p[a] - grid_.box.lo[a]) / h)), 0, grid_.n[a] - 1);
+      lo[a] = grid_.coord(a, c) + kInside * h;
+      hi[a] = grid_.coord(a, c + 1) - kInside * h;
+    }
+    p = to_f32_inside(p - step, Box3{lo, hi});
   }
 }
 

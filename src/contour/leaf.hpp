@@ -91,7 +91,9 @@ class LeafMesher {
   void sample_corners(const Tape& tape);
   void find_roots(const Tape& tape);
   void find_normals(const Tape& tape);
-  void place_vertices_dc(LeafRecord& out);
+  void place_vertices_dc(const Tape& tape, LeafRecord& out);
+  // Moves the vertices of smooth cells onto the surface (place_vertices_dc).
+  void project_smooth_vertices(const Tape& tape, LeafRecord& out);
   void place_vertices_snap(const Tape& tape, LeafRecord& out);
 
   const MeshGrid& grid_;
@@ -135,6 +137,7 @@ class LeafMesher {
   std::vector<std::uint32_t> active_;
   std::vector<Grad> grads_;
   std::vector<Box3> keep_in_;
+  std::vector<std::uint32_t> smooth_;   // vertices to project (project_smooth_vertices)
 };
 
 }  // namespace frep::contour
