@@ -307,6 +307,12 @@ void LeafMesher::find_roots(const Tape& tape) {
     active_.push_back(static_cast<std::uint32_t>(i));
   }
   const float tol = static_cast<float>(o_.edge_tolerance);
+  // Where the tape calls oracles (a mesh's distance), a gradient costs about what a value does:
+  // each proposal is evaluated with its gradient, which find_normals then takes for the
+  // crossings accepted there (the same point), instead of asking again.
+  const bool with_gradients = tape.oracles() != nullptr;
+  root_grad_.assign(with_gradients ? n : 0, Grad{});
+  has_root_grad_.assign(with_gradients ? n : 0, 0);
   std::vector<float>& proposal = proposal_;
   for (int it = 0; it < o_.edge_iterations && !active_.empty(); ++it) {
     const std::size_t m = active_.size();
@@ -337,7 +343,13 @@ void LeafMesher::find_roots(const Tape& tape) {
     }
     std::vector<float>& f = f_eval_;
     f.resize(m);
-    batch_.eval(tape, xs_.data(), ys_.data(), zs_.data(), f.data(), m);
+    if (with_gradients) {
+      grads_.resize(m);
+      grad_.eval(tape, xs_.data(), ys_.data(), zs_.data(), grads_.data(), m);
+      for (std::size_t k = 0; k < m; ++k) f[k] = grads_[k].v;
+    } else {
+      batch_.eval(tape, xs_.data(), ys_.data(), zs_.data(), f.data(), m);
+    }
     std::size_t kept = 0;
     for (std::size_t k = 0; k < m; ++k) {
       const std::uint32_t i = active_[k];
@@ -366,6 +378,7 @@ void LeafMesher::find_roots(const Tape& tape) {
       }
       if (done) {
         crossings_[i].t = t;
+        if (with_gradients) root_grad_[i] = grads_[k], has_root_grad_[i] = 1;
       } else {
         active_[kept++] = i;
       }
@@ -385,11 +398,23 @@ void LeafMesher::find_normals(const Tape& tape) {
     ys_[i] = static_cast<float>(crossings_[i].p.y);
     zs_[i] = static_cast<float>(crossings_[i].p.z);
   }
-  grads_.resize(n);
-  grad_.eval(tape, xs_.data(), ys_.data(), zs_.data(), grads_.data(), n);
+  // Gradients root finding found at the crossings themselves are taken as they are; the others
+  // are evaluated.
+  retry_.clear();
   for (std::size_t i = 0; i < n; ++i) {
-    const Grad& g = grads_[i];
-    crossings_[i].n = Vec3f(normalized_or_zero(g.dx, g.dy, g.dz));
+    if (i < has_root_grad_.size() && has_root_grad_[i]) {
+      const Grad& g = root_grad_[i];
+      crossings_[i].n = Vec3f(normalized_or_zero(g.dx, g.dy, g.dz));
+    } else {
+      xs_[retry_.size()] = xs_[i], ys_[retry_.size()] = ys_[i], zs_[retry_.size()] = zs_[i];
+      retry_.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  grads_.resize(retry_.size());
+  grad_.eval(tape, xs_.data(), ys_.data(), zs_.data(), grads_.data(), retry_.size());
+  for (std::size_t k = 0; k < retry_.size(); ++k) {
+    const Grad& g = grads_[k];
+    crossings_[retry_[k]].n = Vec3f(normalized_or_zero(g.dx, g.dy, g.dz));
   }
   // Where the root lands exactly on the surface of an exact distance such as sqrt(d^2) (a
   // converted mesh), the gradient is 0 by convention (sqrt'(0) = 0): take the normal just outside

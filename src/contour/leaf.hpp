@@ -136,6 +136,8 @@ class LeafMesher {
   std::vector<float> cap_x_, cap_y_, cap_z_, cap_v_;
   std::vector<std::uint32_t> active_;
   std::vector<Grad> grads_;
+  std::vector<Grad> root_grad_;              // per crossing: the gradient where root finding accepted it
+  std::vector<std::uint8_t> has_root_grad_;  // (find_roots, with oracles in the tape)
   std::vector<Box3> keep_in_;
   std::vector<std::uint32_t> smooth_;   // vertices to project (project_smooth_vertices)
 };
