@@ -11,15 +11,15 @@ namespace frep::mesh_detail {
 
 // The query structure, 4-wide so one SIMD register of doubles (AVX2; two on SSE4) tests four
 // boxes or four triangles at once. Built from the binary BVH by pulling grandchildren up.
-constexpr int kWidth = 4;
-struct alignas(32) WideNode {
+constexpr int kWidth = 8;
+struct alignas(64) WideNode {
   double lo[3][kWidth], hi[3][kWidth];  // child boxes; an empty slot has lo = +inf, hi = -inf
   std::int32_t child[kWidth];           // >= 0: inner node; < 0: leaf, packets ~child, ~child + 1, ...
   std::uint32_t packets[kWidth];        // number of packets of a leaf child
 };
 // Four triangles, structure of arrays. Padding lanes repeat the packet's last triangle. Every
 // double array starts on a 32-byte boundary: the kernels load them with aligned loads.
-struct alignas(32) TriPacket {
+struct alignas(64) TriPacket {
   double a[3][kWidth], b[3][kWidth], c[3][kWidth];  // corners
   double n[3][kWidth];                              // cross(b - a, c - a); zero if degenerate
   double inv_n2[kWidth];                            // 1 / |n|^2, zero if degenerate
@@ -27,12 +27,12 @@ struct alignas(32) TriPacket {
   double real[kWidth];        // 1 for a triangle, 0 for padding (sums must not count it twice)
   std::uint32_t tri[kWidth];  // leaf-order triangle index
 };
-static_assert(offsetof(TriPacket, real) % 32 == 0 && offsetof(TriPacket, inv_e2) % 32 == 0 &&
-                  offsetof(TriPacket, inv_n2) % 32 == 0,
+static_assert(offsetof(TriPacket, real) % 64 == 0 && offsetof(TriPacket, inv_e2) % 64 == 0 &&
+                  offsetof(TriPacket, inv_n2) % 64 == 0,
               "aligned loads of TriPacket's arrays");
 // Winding-number data of a wide node's children: far from a child, its triangles act as one
 // dipole (the area-weighted sum of their normals at their area-weighted centroid).
-struct alignas(32) WideDipoles {
+struct alignas(64) WideDipoles {
   double center[3][kWidth], area_normal[3][kWidth];
   double far2[kWidth];  // (beta * radius)^2: the dipole is used beyond this squared distance
 };

@@ -22,7 +22,7 @@ enum class SignMethod {
 struct MeshDistanceOptions {
   double weld_tolerance = 0;  // vertices are welded (exactly, or within this) for pseudonormals
   double winding_beta = 2.5;  // far-field (dipole) approximation for nodes farther than beta x radius
-  int max_leaf_size = 4;      // BVH leaf size
+  int max_leaf_size = 8;      // BVH leaf size
 };
 
 // Which part of a triangle the closest point lies on.
