@@ -21,7 +21,7 @@ namespace frep::mesh_detail {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// Four lanes where the target has them (AVX2, AVX-512), else two vectors of two (SSE4).
+// kWidth lanes where the target has them (AVX-512), else several vectors (AVX2, SSE4).
 using D = hn::CappedTag<double, kWidth>;
 using V = hn::Vec<D>;
 
