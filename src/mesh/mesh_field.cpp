@@ -1,13 +1,14 @@
-// A mesh prepared for distance queries: weld, check, topology, distance oracle, and the sign method.
+// A mesh prepared for distance queries: weld, check, topology, distance oracle, and the sign
+// method. The weld, the topology and (usually) the hierarchy are the check's own, built once.
 #include "frep/mesh/mesh_field.hpp"
 
 #include <cstdio>
 #include <string>
 
 #include "frep/error.hpp"
+#include "frep/mesh/bvh.hpp"
 #include "frep/mesh/topology.hpp"
 #include "frep/mesh/validate.hpp"
-#include "frep/mesh/weld.hpp"
 
 namespace frep {
 
@@ -16,7 +17,14 @@ MeshField::MeshField(const TriMesh& mesh, const MeshFieldOptions& options) {
   ValidationOptions vo;
   vo.weld_tolerance = options.weld_tolerance;
   vo.threads = options.threads;
-  report_ = validate_mesh(mesh, vo);
+  // The check's intersection test runs on the hierarchy the distance oracle would build (its
+  // options, over every triangle of the welded mesh), which is then handed on: the same tree, so
+  // the same distances and winding numbers, built once.
+  const MeshDistanceOptions distance_options;
+  BvhOptions hierarchy;
+  hierarchy.max_leaf_size = distance_options.max_leaf_size;
+  ValidationProducts products;
+  report_ = validate_mesh(mesh, vo, hierarchy, products);
   solid_ = report_.is_solid();
   area_ = report_.area;
   if (!(area_ > 0)) {
@@ -27,10 +35,10 @@ MeshField::MeshField(const TriMesh& mesh, const MeshFieldOptions& options) {
     throw InputError(mesh.name, 0, std::string("the mesh has no area") + tol + ": " + summary());
   }
   sign_ = solid_ ? options.sign : SignMethod::WindingNumber;
-  WeldResult w = weld(mesh, {options.weld_tolerance});
-  welded_ = std::make_unique<TriMesh>(std::move(w.mesh));
-  topology_ = std::make_unique<MeshTopology>(*welded_);
-  distance_ = std::make_unique<MeshDistance>(*welded_, *topology_);
+  welded_ = std::make_unique<TriMesh>(std::move(products.welded));
+  topology_ = std::make_unique<MeshTopology>(std::move(products.topology));
+  distance_ = std::make_unique<MeshDistance>(*welded_, *topology_, distance_options,
+                                             products.hierarchy ? &*products.hierarchy : nullptr);
   box_ = bounding_box(*welded_);
 }
 

@@ -57,6 +57,12 @@ class UnionFind {
     a = find(a), b = find(b);
     if (a != b) p_[std::max(a, b)] = std::min(a, b);
   }
+  // Every member's root, in the parents' own storage (a parent is never larger than its
+  // child, so one increasing pass suffices).
+  std::vector<std::uint32_t> roots() && {
+    for (std::uint32_t& p : p_) p = p_[p];
+    return std::move(p_);
+  }
 
  private:
   std::vector<std::uint32_t> p_;
@@ -101,7 +107,10 @@ struct alignas(64) PairTally {
 // other (which triangles are flat, the shells, the intersection test's hierarchy).
 class Validation {
  public:
-  Validation(const TriMesh& raw, const ValidationOptions& opt);
+  // With `hierarchy`, the intersection test's hierarchy is built, where it can be, as the
+  // distance oracle builds its own (over every triangle, in the file's coordinates, with these
+  // options), so that it can be handed on (take_products).
+  Validation(const TriMesh& raw, const ValidationOptions& opt, const BvhOptions* hierarchy = nullptr);
 
   void check_vertices();
   void check_triangles();
@@ -110,26 +119,45 @@ class Validation {
   void check_vertex_fans();
   void check_shells();
   void check_self_intersections();
+  void find_planar_regions();
   void check_shell_nesting();
   ValidationReport finish();
+  // The welded mesh in the file's coordinates, its topology and, if built so, the hierarchy.
+  void take_products(ValidationProducts& out);
 
  private:
   std::vector<std::pair<std::uint32_t, Vec3>> nesting_probes() const;
   std::vector<double> winding_numbers_at(const std::vector<std::pair<std::uint32_t, Vec3>>& probes) const;
+  // True if corner k of triangle t lies in the plane of triangle u's planar region because it is
+  // a corner of a triangle of that region (what the intersection test's PlaneHint asks).
+  bool in_region_plane(std::uint32_t t, int k, std::uint32_t u) const {
+    for (std::uint32_t f : topo_.vertex_faces(m_.triangles[t][k]))
+      if (plane_[f] == plane_[u]) return true;
+    return false;
+  }
+  struct PairInRegions {
+    const Validation* v;
+    std::uint32_t t[2];
+  };
   // Shells whose (closed) box meets `b`, through a hierarchy over the shell boxes built once.
   void shells_meeting(const Box3& b, std::vector<std::uint32_t>& out) const;
 
   const TriMesh& raw_;
   const ValidationOptions& opt_;
+  const BvhOptions* hierarchy_;  // see the constructor
   ValidationReport r_;
   WeldResult w_;
   const TriMesh& m_ = w_.mesh;  // welded and scaled by 2^-exponent_; triangle indices equal the file's
   int exponent_ = 0;            // the file's coordinates are m_'s times 2^exponent_
-  MeshTopology topo_;
+  std::vector<Vec3> unscaled_;  // m_'s vertices in the file's coordinates, when exponent_ != 0 and hierarchy_
+  bool boxes_fit_float_ = false;  // all coordinates finite, the largest within 2^-60 .. 2^60
+  MeshTopology topo_;  // built on the file's coordinates (its normals are the distance oracle's)
   std::vector<char> flat_;  // zero area, collapsed or a later duplicate: skipped by the intersection test
   std::vector<Shell> shells_;
   double volume_ = 0;
   std::optional<TriangleBvh> bvh_;  // of the intersection test
+  bool bvh_unscaled_ = false;       // bvh_ is over the file's coordinates (and every triangle)
+  std::vector<std::uint32_t> plane_;  // per triangle: its planar region (find_planar_regions)
   std::vector<std::uint32_t> bvh_triangles_;  // when bvh_ is over a subset: its triangles' indices in m_
   mutable std::optional<TriangleBvh> shell_bvh_;  // over the shell boxes (each a "triangle" from lo to hi)
   bool bvh_is_whole_ = false;       // over every triangle of m_ (then the nesting test reuses it)
@@ -158,8 +186,8 @@ class Validation {
   }
 };
 
-Validation::Validation(const TriMesh& raw, const ValidationOptions& opt)
-    : raw_(raw), opt_(opt), w_(weld(raw, {opt.weld_tolerance})) {
+Validation::Validation(const TriMesh& raw, const ValidationOptions& opt, const BvhOptions* hierarchy)
+    : raw_(raw), opt_(opt), hierarchy_(hierarchy), w_(weld(raw, {opt.weld_tolerance})) {
   r_.file = raw.name;
   r_.file_vertices = raw.vertices.size();
   r_.triangles = raw.triangles.size();
@@ -171,13 +199,20 @@ Validation::Validation(const TriMesh& raw, const ValidationOptions& opt)
   // lose bits to underflow (1e-110), and the volume's triple products stay finite. Lengths,
   // areas and volumes are scaled back when reported.
   double big = 0;
+  bool finite = true;
   for (const Vec3& v : m_.vertices)
     for (double x : {v.x, v.y, v.z})
       if (std::isfinite(x)) big = std::max(big, std::fabs(x));
+      else finite = false;
   if (big > 0) std::frexp(big, &exponent_);
-  if (exponent_ != 0)
-    for (Vec3& v : w_.mesh.vertices) v = {std::ldexp(v.x, -exponent_), std::ldexp(v.y, -exponent_), std::ldexp(v.z, -exponent_)};
+  boxes_fit_float_ = finite && big > 0 && exponent_ >= -60 && exponent_ <= 60;
+  // The topology only reads indices, except for its normals: built on the file's coordinates,
+  // it is the one the distance oracle needs (take_products).
   topo_ = MeshTopology(m_);
+  if (exponent_ != 0) {
+    if (hierarchy_) unscaled_ = w_.mesh.vertices;  // for take_products
+    for (Vec3& v : w_.mesh.vertices) v = {std::ldexp(v.x, -exponent_), std::ldexp(v.y, -exponent_), std::ldexp(v.z, -exponent_)};
+  }
   flat_.assign(m_.triangles.size(), 0);
 }
 
@@ -330,7 +365,8 @@ void Validation::check_shells() {
 }
 
 // Self-intersections: candidate pairs from a hierarchy over the triangles that can intersect
-// anything, classified exactly: crossing, coplanar overlap (or fold), touching.
+// anything, classified exactly: crossing, coplanar overlap (or fold), touching. Pairs within one
+// planar region are classified as coplanar without their orientation signs (see plane_).
 void Validation::check_self_intersections() {
   const std::size_t nt = m_.triangles.size();
   if (!opt_.self_intersections || nt <= 1) return;
@@ -339,7 +375,15 @@ void Validation::check_self_intersections() {
   for (std::uint32_t t = 0; t < nt; ++t)
     if (!flat_[t]) live.push_back(t);
   bvh_is_whole_ = live.size() == nt;
-  if (bvh_is_whole_) {
+  if (bvh_is_whole_ && hierarchy_ && boxes_fit_float_) {
+    // The distance oracle's hierarchy, over the file's coordinates. Its single-precision boxes
+    // hold their triangles as the scaled ones do (coordinates within 2^+-60 keep them tight),
+    // and any hierarchy finds every pair whose boxes overlap: the same pairs meet.
+    if (exponent_ != 0) w_.mesh.vertices.swap(unscaled_);
+    bvh_.emplace(m_, *hierarchy_);
+    if (exponent_ != 0) w_.mesh.vertices.swap(unscaled_);
+    bvh_unscaled_ = true;
+  } else if (bvh_is_whole_) {
     bvh_.emplace(m_);
   } else {
     TriMesh sub;
@@ -348,15 +392,23 @@ void Validation::check_self_intersections() {
     bvh_.emplace(sub);
     bvh_triangles_ = live;
   }
+  find_planar_regions();
   const int threads = std::min(resolve_thread_count(opt_.threads), 1024);
   std::vector<PairTally> found(threads);
+  const bool subset = !bvh_triangles_.empty();
   bvh_->for_each_overlapping_pair_parallel(threads, [&](std::uint32_t a, std::uint32_t b, int th) {
-    a = live[a], b = live[b];
+    if (subset) a = live[a], b = live[b];
     const Triangle &ta = m_.triangles[a], &tb = m_.triangles[b];
     const Vec3 p[3] = {m_.vertices[ta[0]], m_.vertices[ta[1]], m_.vertices[ta[2]]};
     const Vec3 q[3] = {m_.vertices[tb[0]], m_.vertices[tb[1]], m_.vertices[tb[2]]};
     const unsigned pi[3] = {ta[0], ta[1], ta[2]}, qi[3] = {tb[0], tb[1], tb[2]};
-    const Contact k = classify_triangle_pair(p, pi, q, qi);
+    const PairInRegions pair{this, {a, b}};
+    const PlaneHint hint{[](const void* c, int which, int k) {
+                           const auto& x = *static_cast<const PairInRegions*>(c);
+                           return x.v->in_region_plane(x.t[which], k, x.t[1 - which]);
+                         },
+                         &pair};
+    const Contact k = classify_triangle_pair(p, pi, q, qi, plane_[a] == plane_[b], &hint);
     if (k != Contact::None) found[th].add(k == Contact::Cross ? 0 : (k == Contact::Overlap ? 1 : 2), a, b, opt_.max_examples);
   });
   const DefectKind kinds[3] = {DefectKind::SelfIntersections, DefectKind::Overlaps, DefectKind::TouchingPairs};
@@ -374,6 +426,44 @@ void Validation::check_self_intersections() {
       x.examples.push_back(l);
     }
   }
+}
+
+// Planar regions: non-flat triangles joined through edges of exactly two non-flat triangles
+// that lie in one plane (exact orient3d). Non-flat triangles span a plane each, so a region lies
+// in one plane, and every pair within it is coplanar: on CAD parts, flat faces tessellated into
+// fans, that is most candidate pairs, whose orientation signs are zeros the predicates' float
+// filter cannot certify (their exact stage was most of the test's time). A region only needs to
+// be coplanar, not as large as can be: edges whose face normals (the topology's, in floating
+// point) are clearly not parallel are not tested, which on smooth meshes is nearly all of them.
+void Validation::find_planar_regions() {
+  const std::size_t nt = m_.triangles.size();
+  // The edges are tested in parallel (each from its first triangle), the regions joined after.
+  const int threads = std::min(resolve_thread_count(opt_.threads), 1024);
+  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> joined(threads);
+  parallel_for_ranges(threads, nt, 8192, [&](int worker, std::size_t begin, std::size_t end) {
+    for (auto t = static_cast<std::uint32_t>(begin); t < end; ++t) {
+      if (flat_[t]) continue;
+      const Triangle& f = m_.triangles[t];
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t e = topo_.triangle_edges(t)[k];
+        if (topo_.edge_face_count(e) != 2 || topo_.edge_faces(e)[0] != t) continue;
+        const std::uint32_t g = topo_.edge_faces(e)[1];
+        if (flat_[g] || std::fabs(dot(topo_.face_normal(t), topo_.face_normal(g))) < 1 - 1e-9) continue;
+        // g's corner off the edge (which joins f's corners k and k + 1).
+        const Triangle& gt = m_.triangles[g];
+        const std::uint32_t a = f[k], b = f[(k + 1) % 3];
+        const std::uint32_t w = gt[0] != a && gt[0] != b ? gt[0] : (gt[1] != a && gt[1] != b ? gt[1] : gt[2]);
+        if (exact::orient3d(m_.vertices[f[0]], m_.vertices[f[1]], m_.vertices[f[2]], m_.vertices[w]) == 0)
+          joined[worker].push_back({t, g});
+      }
+    }
+  });
+  std::vector<std::uint32_t> parent(nt);
+  for (std::uint32_t t = 0; t < nt; ++t) parent[t] = t;
+  UnionFind regions(std::move(parent));  // roots are the smallest members, whatever the order
+  for (const auto& list : joined)
+    for (const auto& [t, g] : list) regions.unite(t, g);
+  plane_ = std::move(regions).roots();  // flat triangles are regions of their own, and never in a pair
 }
 
 // Several closed, consistently oriented shells that do not cross: just outside each shell's
@@ -410,7 +500,15 @@ std::vector<std::pair<std::uint32_t, Vec3>> Validation::nesting_probes() const {
     // of the shells whose boxes meet the segment's (within the budget).
     near.clear();
     if (bvh_) {
-      bvh_->for_each_meeting(seg, [&](std::uint32_t t) { near.push_back(bvh_triangles_.empty() ? t : bvh_triangles_[t]); });
+      // A hierarchy over the file's coordinates is asked about the segment's box there, rounded
+      // outward (it holds every point of the scaled box, scaled back).
+      Box3 query = seg;
+      if (bvh_unscaled_ && exponent_ != 0)
+        for (int k = 0; k < 3; ++k) {
+          query.lo[k] = std::nextafter(std::ldexp(seg.lo[k], exponent_), -INFINITY);
+          query.hi[k] = std::nextafter(std::ldexp(seg.hi[k], exponent_), INFINITY);
+        }
+      bvh_->for_each_meeting(query, [&](std::uint32_t t) { near.push_back(bvh_triangles_.empty() ? t : bvh_triangles_[t]); });
     } else {
       std::vector<std::uint32_t> shells;
       shells_meeting(seg, shells);
@@ -503,7 +601,12 @@ std::vector<double> Validation::winding_numbers_at(const std::vector<std::pair<s
       wn[k] = sum / (4 * 3.14159265358979323846);
     }
   } else {
-    const MeshDistance md(m_, topo_, {}, bvh_is_whole_ ? &*bvh_ : nullptr);
+    // As always: over the scaled mesh, through the intersection test's hierarchy if it covers
+    // every triangle (built again over the scaled coordinates if it was built for the oracle).
+    std::optional<TriangleBvh> scaled;
+    if (bvh_is_whole_ && bvh_unscaled_) scaled.emplace(m_);
+    const TriangleBvh* whole = !bvh_is_whole_ ? nullptr : (scaled ? &*scaled : &*bvh_);
+    const MeshDistance md(m_, topo_, {}, whole);
     for (std::size_t k = 0; k < probes.size(); ++k) wn[k] = md.winding_number(probes[k].second);
   }
   return wn;
@@ -515,14 +618,22 @@ ValidationReport Validation::finish() {
   return std::move(r_);
 }
 
+void Validation::take_products(ValidationProducts& out) {
+  if (exponent_ != 0) w_.mesh.vertices.swap(unscaled_);
+  out.welded = std::move(w_.mesh);
+  out.topology = std::move(topo_);
+  out.hierarchy.reset();
+  if (bvh_unscaled_) out.hierarchy = std::move(bvh_);
+}
+
 }  // namespace
 
 const char* defect_key(DefectKind k) { return kKinds[static_cast<int>(k)].key; }
 const char* defect_description(DefectKind k) { return kKinds[static_cast<int>(k)].what; }
 bool defect_is_fatal(DefectKind k) { return kKinds[static_cast<int>(k)].fatal; }
 
-ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt) {
-  Validation v(raw, opt);
+namespace {
+void run_checks(Validation& v) {
   v.check_vertices();
   v.check_triangles();
   v.check_duplicate_triangles();
@@ -531,7 +642,22 @@ ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt)
   v.check_shells();
   v.check_self_intersections();
   v.check_shell_nesting();
+}
+}  // namespace
+
+ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt) {
+  Validation v(raw, opt);
+  run_checks(v);
   return v.finish();
+}
+
+ValidationReport validate_mesh(const TriMesh& raw, const ValidationOptions& opt, const BvhOptions& hierarchy,
+                               ValidationProducts& products) {
+  Validation v(raw, opt, &hierarchy);
+  run_checks(v);
+  ValidationReport r = v.finish();
+  v.take_products(products);
+  return r;
 }
 
 bool ValidationReport::is_solid() const {

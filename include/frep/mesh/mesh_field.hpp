@@ -27,7 +27,8 @@ struct MeshFieldOptions {
 
 class MeshField {
  public:
-  // Welds and validates the mesh (self-intersections included) and builds the distance oracle.
+  // Welds and validates the mesh (self-intersections included) and builds the distance oracle
+  // on the check's welded mesh, topology and (where it could build it so) hierarchy.
   // Throws InputError for a mesh the oracle cannot handle (no triangles, coordinates out of range).
   explicit MeshField(const TriMesh& mesh, const MeshFieldOptions& options = {});
   ~MeshField();

@@ -7,7 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "frep/mesh/bvh.hpp"
 #include "frep/mesh/mesh.hpp"
+#include "frep/mesh/topology.hpp"
 
 namespace frep {
 
@@ -87,5 +89,22 @@ bool defect_is_fatal(DefectKind k);
 
 // Welds (exactly, or with the tolerance) and validates a mesh as read from a file.
 ValidationReport validate_mesh(const TriMesh& mesh, const ValidationOptions& options = {});
+
+// What validation builds on the way, for a caller that goes on to index the mesh (MeshField), so
+// that it is not built twice.
+struct ValidationProducts {
+  TriMesh welded;         // the mesh welded as options.weld_tolerance says (weld.hpp), in the file's coordinates
+  MeshTopology topology;  // of `welded`, as MeshTopology(welded) builds it
+  // TriangleBvh(welded, hierarchy options), exactly as built from those, when the intersection
+  // test could run on it: it ran (options.self_intersections), no triangle is flat (zero area,
+  // collapsed, a duplicate: they are left out of the test), and the coordinates are finite with
+  // the largest within 2^-60 .. 2^60 (single-precision boxes stay tight). Empty otherwise.
+  std::optional<TriangleBvh> hierarchy;
+};
+
+// The same validation (the same report), also handing back the products above; `hierarchy`
+// gives the options of the hierarchy to hand back.
+ValidationReport validate_mesh(const TriMesh& mesh, const ValidationOptions& options, const BvhOptions& hierarchy,
+                               ValidationProducts& products);
 
 }  // namespace frep
