@@ -60,12 +60,14 @@ void register_sample(CLI::App& app);
 void register_offset(CLI::App& app);
 void register_shell(CLI::App& app);
 void register_clearance(CLI::App& app);
+void register_repair(CLI::App& app);
 
 inline void register_commands(CLI::App& app) {
   register_info(app);
   register_eval(app);
   register_render(app);
   register_check(app);
+  register_repair(app);
   register_sdf(app);
   register_convert(app);
   register_mesh(app);

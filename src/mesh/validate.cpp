@@ -12,6 +12,7 @@
 #include "frep/mesh/mesh_distance.hpp"
 #include "frep/mesh/topology.hpp"
 #include "frep/mesh/weld.hpp"
+#include "frep/util/json.hpp"
 #include "frep/util/thread_pool.hpp"
 #include "predicates.hpp"
 #include "tri_tri.hpp"
@@ -674,52 +675,6 @@ std::string fmt_g(double v) {
   return buf;
 }
 std::string fmt_point(const Vec3& p) { return "(" + fmt_g(p.x) + ", " + fmt_g(p.y) + ", " + fmt_g(p.z) + ")"; }
-// Length of the well-formed UTF-8 sequence starting at s[i] (RFC 3629: no overlong forms, no
-// surrogates, nothing beyond U+10FFFF), or 0 if there is none.
-std::size_t utf8_length(const std::string& s, std::size_t i) {
-  const auto at = [&](std::size_t k) { return k < s.size() ? static_cast<unsigned char>(s[k]) : 0u; };
-  const unsigned b = at(i);
-  std::size_t n;
-  unsigned lo = 0x80, hi = 0xbf;  // allowed range of the second byte
-  if (b >= 0xc2 && b <= 0xdf) n = 2;
-  else if (b >= 0xe0 && b <= 0xef) n = 3, lo = b == 0xe0 ? 0xa0 : 0x80, hi = b == 0xed ? 0x9f : 0xbf;
-  else if (b >= 0xf0 && b <= 0xf4) n = 4, lo = b == 0xf0 ? 0x90 : 0x80, hi = b == 0xf4 ? 0x8f : 0xbf;
-  else return 0;
-  if (at(i + 1) < lo || at(i + 1) > hi) return 0;
-  for (std::size_t k = 2; k < n; ++k)
-    if (at(i + k) < 0x80 || at(i + k) > 0xbf) return 0;
-  return n;
-}
-// JSON string contents: quotes, backslashes and control characters escaped; well-formed UTF-8
-// passes through; any other byte (a file name in Latin-1...) becomes the escape of U+00XX, its
-// Latin-1 reading, so the output is always valid JSON.
-std::string json_escape(const std::string& s) {
-  std::string o;
-  for (std::size_t i = 0; i < s.size();) {
-    const char ch = s[i];
-    const unsigned char u = static_cast<unsigned char>(ch);
-    if (ch == '"' || ch == '\\') {
-      o += '\\', o += ch, ++i;
-    } else if (u < 0x80) {
-      if (u < 0x20) {
-        char buf[8];
-        std::snprintf(buf, sizeof buf, "\\u%04x", u);
-        o += buf;
-      } else {
-        o += ch;
-      }
-      ++i;
-    } else if (const std::size_t n = utf8_length(s, i)) {
-      o.append(s, i, n), i += n;
-    } else {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", u);
-      o += buf, ++i;
-    }
-  }
-  return o;
-}
-std::string json_num(double v) { return std::isfinite(v) ? fmt_g(v) : "null"; }
 }  // namespace
 
 std::string ValidationReport::summary() const {
