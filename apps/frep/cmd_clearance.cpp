@@ -81,6 +81,7 @@ struct Args {
   std::size_t max_boxes = 20000;
   double time_limit = 0;  // seconds for the interval search, 0 for none
   bool quiet = false;
+  bool repair = false;
   FieldOutputOptions region;  // only its bounds: the region searched
 };
 
@@ -238,10 +239,11 @@ void register_clearance(CLI::App& app) {
                   "--max-boxes alone gives the same answer on every machine")
       ->check(finite_non_negative());
   cmd->add_flag("--quiet,-q", a->quiet, "Print only the result (no reading notes, no progress)");
+  add_repair_option(cmd, a->repair);
   cmd->callback([a] {
     check_field_output_options(a->region);
-    Model ma = load_input(a->a, a->quiet);
-    const Model mb = load_input(a->b, a->quiet);
+    Model ma = load_input(a->a, a->quiet, nullptr, a->repair);
+    const Model mb = load_input(a->b, a->quiet, nullptr, a->repair);
     Affine3 map_a, map_b;
     const MeshOracle* oa = as_mesh_oracle(*ma.graph, ma.root, &map_a);
     const MeshOracle* ob = as_mesh_oracle(*mb.graph, mb.root, &map_b);

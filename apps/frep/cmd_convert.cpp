@@ -24,7 +24,7 @@ void register_convert(CLI::App& app) {
     std::string mesh, output, sign = "pseudonormal", tetgen = "tetgen";
     double weld_tolerance = 0, tetgen_timeout = 600;
     int threads = 0;
-    bool quiet = false;
+    bool quiet = false, repair = false;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("MESH", a->mesh, "Mesh file")->required();
@@ -43,10 +43,11 @@ void register_convert(CLI::App& app) {
   cmd->add_option("--tetgen-timeout", a->tetgen_timeout, "Seconds TetGen may run (default 600)")
       ->check(CLI::Range(0.001, 1e7));
   cmd->add_flag("--quiet,-q", a->quiet, "Print nothing but errors");
+  add_repair_option(cmd, a->repair);
   cmd->callback([a] {
     check_expression_path(a->output);
     check_output(a->output, {a->mesh});
-    const TriMesh mesh = read_mesh_noting(a->mesh);
+    const TriMesh mesh = repaired_if_asked(read_mesh_noting(a->mesh), a->repair, a->quiet);
     ConvertOptions opt;
     opt.sign = a->sign == "tets" ? SignMode::Tetrahedra : SignMode::Pseudonormal;
     opt.weld_tolerance = a->weld_tolerance;

@@ -39,7 +39,7 @@ void register_mesh(CLI::App& app) {
     std::vector<double> bounds;
     int threads = 0, snap_iterations = 4;
     double lipschitz = -1;
-    bool quiet = false;
+    bool quiet = false, repair = false;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("INPUT", a->input, kFieldInputHelp)->required();
@@ -86,6 +86,7 @@ void register_mesh(CLI::App& app) {
       ->check(CLI::Range(0, 1024));
   cmd->add_flag("--quiet,-q", a->quiet, "Print nothing but errors");
   add_lipschitz_option(cmd, a->lipschitz);
+  add_repair_option(cmd, a->repair);
   cmd->callback([a, res, cell] {
     if (res->count() == 0 && cell->count() == 0)
       throw CLI::ValidationError("--resolution/--cell", "give the cell size: --resolution N or --cell SIZE");
@@ -107,7 +108,7 @@ void register_mesh(CLI::App& app) {
     o.threads = a->threads;
     check_output_path(a->output, a->input);
 
-    const Model m = load_input(a->input, a->quiet);
+    const Model m = load_input(a->input, a->quiet, nullptr, a->repair);
     const Tape tape = Tape::compile(*m.graph, m.root);
     o.lipschitz = lipschitz_of(m, a->lipschitz);
     // A box known to hold the inside (a mesh's, converted here or by frep convert) instead of the

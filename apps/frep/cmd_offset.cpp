@@ -39,7 +39,7 @@ void register_offset(CLI::App& app) {
   cmd->callback([a, o] {
     check_field_output_options(*o);
     check_field_output(a->output, a->input);
-    Model m = load_input(a->input, o->quiet);
+    Model m = load_input(a->input, o->quiet, nullptr, o->repair);
     note_if_not_a_distance("offset", a->input, m, o->quiet);
     o->lipschitz = lipschitz_of(m, o->lipschitz);  // an offset keeps it
     const Expr result = ugf::offset(m.root_expr(), static_cast<float>(a->distance));

@@ -69,7 +69,7 @@ void register_render(CLI::App& app) {
     std::vector<double> rotate, bounds;
     double contour = 0, lipschitz = -1;
     int depth_steps = 0;
-    bool three_d = false, ao = false, quiet = false;
+    bool three_d = false, ao = false, quiet = false, repair = false;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("FILE", a->file, kFieldInputHelp)->required();
@@ -89,6 +89,7 @@ void register_render(CLI::App& app) {
       ->check(CLI::Range(1, 1 << 20));
   cmd->add_flag("--quiet,-q", a->quiet, "Do not print where the image went");
   add_lipschitz_option(cmd, a->lipschitz);
+  add_repair_option(cmd, a->repair);
 
   auto* three_d = cmd->add_flag("--3d", a->three_d, "Shaded 3D view of the surface f = 0 (orthographic)");
   auto* slice = cmd->add_option("--slice", a->slice,
@@ -147,7 +148,7 @@ void register_render(CLI::App& app) {
       if (a->tiles[i] > a->tiles[i - 1]) throw CLI::ValidationError("--tiles", "tile sizes must not increase");
     check_image_path(a->output, grayscale ? 1 : 3);
     check_output(a->output, {a->file});
-    const Model m = load_input(a->file, a->quiet);
+    const Model m = load_input(a->file, a->quiet, nullptr, a->repair);
     const Tape tape = Tape::compile(*m.graph, m.root);
     // Without --bounds, 3D views and slices show the box the input says holds its inside (a mesh,
     // converted here or by frep convert), grown by 5% of its longest side so that nothing is cut

@@ -3,7 +3,7 @@
 
 #include "commands.hpp"
 #include "frep/mesh/mesh_io.hpp"
-#include "frep/mesh/repair.hpp"
+#include "frep/convert/make_solid.hpp"
 #include "input.hpp"
 
 namespace frep::cli {
@@ -18,7 +18,7 @@ void register_repair(CLI::App& app) {
     std::string mesh, output;
     bool json = false, quiet = false, no_fill = false, ascii = false;
     double weld_tolerance = 0, time_limit = 0;
-    int threads = 0;
+    int threads = 0, resolution = 256;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("MESH", a->mesh, "Mesh file (.stl, .obj, .ply, .off)")->required();
@@ -32,6 +32,10 @@ void register_repair(CLI::App& app) {
       ->check(finite_non_negative());
   cmd->add_option("--time-limit", a->time_limit, "Give up after this many seconds (default 0: no limit)")
       ->check(finite_non_negative());
+  cmd->add_option("-r,--resolution", a->resolution,
+                  "Cells across the approximation made where no exact repair is found (the winding-number field, "
+                  "remeshed; default 256; 0: refuse such meshes instead)")
+      ->check(CLI::Range(0, 2048));
   cmd->add_option("--threads", a->threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0, 1024));
   cmd->callback([a] {
     check_output(a->output, {a->mesh});
@@ -42,7 +46,8 @@ void register_repair(CLI::App& app) {
     opt.time_limit = a->time_limit;
     opt.threads = a->threads;
     opt.quiet = a->quiet || a->json;
-    RepairResult r = repair_mesh(mesh, opt);
+    opt.remesh_resolution = a->resolution;
+    RepairResult r = make_solid(mesh, opt);
     MeshWriteOptions wo;
     wo.ascii = a->ascii;
     write_mesh(a->output, r.mesh, wo);

@@ -14,7 +14,7 @@ void register_sdf(CLI::App& app) {
       "sdf", "Exact signed distance to a mesh at points, one value per line (negative inside)");
   struct Args {
     std::string file, points, sign = "winding";
-    bool unsigned_only = false;
+    bool unsigned_only = false, repair = false;
     double weld_tolerance = 0;
     int digits = 9;
     int threads = 0;
@@ -29,6 +29,7 @@ void register_sdf(CLI::App& app) {
                   "by the closest feature's 'pseudonormal' (exact on clean closed solids)")
       ->check(CLI::IsMember({"winding", "pseudonormal"}));
   cmd->add_flag("--unsigned", a->unsigned_only, "Print unsigned distances");
+  add_repair_option(cmd, a->repair);
   cmd->add_option("--weld-tolerance", a->weld_tolerance, "Merge vertices closer than this (default 0: exact)")
       ->check(finite_non_negative());
   cmd->add_option("--digits", a->digits, "Significant digits printed (default 9, 17 round-trips doubles)")
@@ -39,7 +40,7 @@ void register_sdf(CLI::App& app) {
         parse_points_f64(read_points_text(a->points), points_source_name(a->points), kMaxQueryCoordinate);
     MeshDistanceOptions opt;
     opt.weld_tolerance = a->weld_tolerance;
-    TriMesh mesh = read_mesh_noting(a->file);
+    TriMesh mesh = repaired_if_asked(read_mesh_noting(a->file), a->repair, false);
     if (a->sign == "pseudonormal" && !a->unsigned_only) {
       // Pseudonormal signs are only meaningful on a closed, consistently oriented solid.
       ValidationOptions vo;

@@ -46,7 +46,7 @@ void register_shell(CLI::App& app) {
   cmd->callback([cmd, a, o] {
     check_field_output_options(*o);
     check_field_output(a->output, a->input);
-    Model m = load_input(a->input, o->quiet);
+    Model m = load_input(a->input, o->quiet, nullptr, o->repair);
     note_if_not_a_distance("shell", a->input, m, o->quiet);
     o->lipschitz = lipschitz_of(m, o->lipschitz);  // every side keeps it (max and abs of L-Lipschitz fields)
     const float t = static_cast<float>(a->thickness);

@@ -46,6 +46,7 @@ void add_field_output_options(CLI::App* cmd, const std::shared_ptr<FieldOutputOp
       ->expected(6);
   cmd->add_option("--threads,-j", o->threads, "Worker threads (0 = all cores)")->capture_default_str()->check(CLI::Range(0, 1024));
   cmd->add_flag("--quiet,-q", o->quiet, "Print nothing but errors");
+  add_repair_option(cmd, o->repair);
   add_lipschitz_option(cmd, o->lipschitz);
 }
 

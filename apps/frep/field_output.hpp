@@ -19,10 +19,11 @@ struct FieldOutputOptions {
   std::vector<double> bounds;  // x0,y0,z0,x1,y1,z1 given on the command line, or empty
   int threads = 0;
   bool quiet = false;
+  bool repair = false;  // --repair: repair a broken input mesh first
   double lipschitz = -1;       // --lipschitz, or < 0 if not given; commands resolve it with lipschitz_of
 };
 
-// Adds --resolution, --bounds, --threads, --quiet and --lipschitz, stored in `o` (which must outlive parsing).
+// Adds --resolution, --bounds, --threads, --quiet, --repair and --lipschitz, stored in `o` (which must outlive parsing).
 void add_field_output_options(CLI::App* cmd, const std::shared_ptr<FieldOutputOptions>& o);
 // Checks what CLI11 cannot (finite, non-empty bounds); throws CLI::ValidationError.
 void check_field_output_options(const FieldOutputOptions& o);

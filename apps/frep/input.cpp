@@ -5,20 +5,39 @@
 #include <filesystem>
 
 #include "frep/convert/convert.hpp"
+#include "frep/convert/make_solid.hpp"
 #include "frep/error.hpp"
 #include "frep/io/atomic_file.hpp"
 #include "frep/mesh/mesh_io.hpp"
 
 namespace frep::cli {
 
-Model load_input(const std::string& path, bool quiet, ConvertStats* stats) {
+Model load_input(const std::string& path, bool quiet, ConvertStats* stats, bool repair) {
   ConvertStats s;
-  Model m = load_field(path, {}, &s);
+  ConvertOptions o;
+  o.repair = repair;
+  Model m = load_field(path, o, &s);
   if (stats) *stats = s;
   print_read_warnings(path, s.read_warnings);
+  if (!s.repaired.empty()) fmt::print(stderr, "frep: repaired {}: {}\n", path, s.repaired);
   if (s.triangles > 0 && !quiet)
     fmt::print(stderr, "frep: read {} ({} triangles, checked and indexed in {:.2f} s)\n", path, s.triangles, s.seconds);
   return m;
+}
+
+void add_repair_option(CLI::App* cmd, bool& value) {
+  cmd->add_flag("--repair", value,
+                "Repair a mesh that is not a valid solid first (as frep repair does) instead of refusing it");
+}
+
+TriMesh repaired_if_asked(TriMesh mesh, bool repair, bool quiet) {
+  if (!repair) return mesh;
+  RepairOptions ro;
+  ro.quiet = quiet;
+  RepairResult r = make_solid(mesh, ro);
+  if (r.report.changed) fmt::print(stderr, "frep: repaired {}: {}\n", mesh.name, repair_summary(r.report));
+  r.mesh.name = mesh.name;
+  return std::move(r.mesh);
 }
 
 void check_output(const std::string& output, std::initializer_list<std::string> inputs) {

@@ -16,7 +16,13 @@ namespace frep::cli {
 // An expression file, or a mesh converted on the fly (saying so on stderr unless `quiet`; reading
 // warnings are printed either way). `stats`, when given, receives the conversion's figures
 // (triangles = 0 for an expression file).
-Model load_input(const std::string& path, bool quiet = false, ConvertStats* stats = nullptr);
+// With `repair`, a mesh that is not a valid solid is repaired first (make_solid), saying so on stderr.
+Model load_input(const std::string& path, bool quiet = false, ConvertStats* stats = nullptr, bool repair = false);
+
+// --repair: the commands that read meshes repair broken ones first instead of refusing them.
+void add_repair_option(CLI::App* cmd, bool& value);
+// `mesh`, repaired if `repair` (saying so on stderr unless quiet): for commands that read meshes themselves.
+TriMesh repaired_if_asked(TriMesh mesh, bool repair, bool quiet);
 
 // --lipschitz L: lets a command that subdivides space (render, mesh, offset, shell) assume
 // |f(p) - f(q)| <= L |p - q| (see FieldInfo::lipschitz). `value` stays negative unless given.

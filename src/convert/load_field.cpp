@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "frep/convert/convert.hpp"
+#include "frep/convert/make_solid.hpp"
 #include "frep/convert/mesh_oracle.hpp"
 #include "frep/error.hpp"
 #include "frep/io/load.hpp"
@@ -14,10 +15,20 @@ namespace {
 
 // Reads and checks a mesh file; `warnings` receives what the reader tolerated.
 std::shared_ptr<const MeshOracle> load_mesh_oracle(const std::string& path, const ConvertOptions& options,
-                                                   std::vector<std::string>* warnings = nullptr) {
-  const TriMesh mesh = read_mesh(path);
+                                                   std::vector<std::string>* warnings = nullptr,
+                                                   std::string* repaired = nullptr) {
+  TriMesh mesh = read_mesh(path);
   if (warnings) *warnings = mesh.warnings;
   try {
+    if (options.repair) {
+      RepairOptions ro;
+      ro.weld_tolerance = options.weld_tolerance;
+      ro.threads = options.threads;
+      RepairResult r = make_solid(mesh, ro);
+      if (r.report.changed && repaired) *repaired = repair_summary(r.report);
+      mesh = std::move(r.mesh);
+      mesh.name = path;
+    }
     return std::make_shared<const MeshOracle>(mesh, options);
   } catch (const InputError& e) {
     // The checks see a mesh, not a file: name the file here.
@@ -38,7 +49,8 @@ Model load_field(const std::string& path, const ConvertOptions& options, Convert
   }
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<std::string> warnings;
-  auto oracle = load_mesh_oracle(path, options, &warnings);
+  std::string repaired;
+  auto oracle = load_mesh_oracle(path, options, &warnings, &repaired);
   if (stats) {
     *stats = ConvertStats{};
     const MeshField& f = oracle->field();
@@ -47,6 +59,7 @@ Model load_field(const std::string& path, const ConvertOptions& options, Convert
     stats->box = f.box();
     stats->nodes = 1;
     stats->read_warnings = std::move(warnings);
+    stats->repaired = std::move(repaired);
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   return mesh_model(std::move(oracle));

@@ -43,6 +43,23 @@ MeshOracle::MeshOracle(const TriMesh& mesh, const ConvertOptions& options,
   options_.progress = nullptr;  // a caller's progress callback may not outlive it
 }
 
+MeshOracle::MeshOracle(const TriMesh& mesh, const ConvertOptions& options, AnyMesh)
+    : field_(mesh, [&] {
+        MeshFieldOptions fo;
+        fo.weld_tolerance = options.weld_tolerance;
+        fo.threads = options.threads;
+        return fo;
+      }()),
+      mesh_(mesh),
+      name_(mesh.name),
+      options_(options) {
+  options_.progress = nullptr;
+}
+
+std::shared_ptr<const MeshOracle> MeshOracle::any_mesh(const TriMesh& mesh, const ConvertOptions& options) {
+  return std::shared_ptr<const MeshOracle>(new MeshOracle(mesh, options, AnyMesh{}));
+}
+
 std::shared_ptr<const std::string> MeshOracle::closed_form_frep() const {
   std::lock_guard<std::mutex> lock(closed_mutex_);
   if (!closed_frep_) {

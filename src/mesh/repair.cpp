@@ -17,6 +17,7 @@
 #include "frep/error.hpp"
 #include "frep/mesh/bvh.hpp"
 #include "frep/mesh/mesh_distance.hpp"
+#include "frep/mesh/mesh_io.hpp"
 #include "frep/mesh/topology.hpp"
 #include "frep/mesh/weld.hpp"
 #include "frep/util/json.hpp"
@@ -44,7 +45,7 @@ class Deadline {
   double seconds() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
   void poll() const {
     if (limit_ > 0 && seconds() > limit_)
-      throw InputError(file_, 0, "repair stopped after " + fmt_g(limit_) + " s (the time limit)");
+      throw RepairStopped(file_, 0, "repair stopped after " + fmt_g(limit_) + " s (the time limit)");
   }
 
  private:
@@ -465,6 +466,7 @@ TriMesh cut_and_keep(const TriMesh& m, RepairReport& r, const Deadline& deadline
       if (std::fabs(back - 0.5) < 0.25) back = md.winding_number_exact(centre - n * delta);
       const bool in_front = front >= 0.5, in_back = back >= 0.5;
       if (std::fabs(front - 0.5) < 0.25 || std::fabs(back - 0.5) < 0.25) ++unsure;
+      if (std::getenv("FREP_DEBUG_REPAIR")) std::fprintf(stderr, "patch %zu rep %u delta %g front %.6f back %.6f\n", p, rep[p], delta, front, back);
       if (in_front != in_back) keep[p] = static_cast<signed char>(in_back ? 1 : -1);
     }
   });
@@ -483,7 +485,8 @@ TriMesh cut_and_keep(const TriMesh& m, RepairReport& r, const Deadline& deadline
     const Vec3 cr = cross(V[pc.v[1]] - V[pc.v[0]], V[pc.v[2]] - V[pc.v[0]]);
     patch_area[p] += 0.5 * length(cr);
     if (keep[p] == 0) continue;
-    const bool turn = (keep[p] < 0) != (flip[i] != 0);
+    // keep[p] is about the representative; flip[] is relative to the patch's first piece.
+    const bool turn = (keep[p] < 0) != ((flip[i] != 0) != (flip[rep[p]] != 0));
     Triangle t = pc.v;
     if (turn) std::swap(t[1], t[2]);
     out.triangles.push_back(t);
@@ -559,7 +562,9 @@ RepairResult repair_mesh(const TriMesh& input, const RepairOptions& options) {
         m = clean(m, 0, dropped);
       }
       r.after = validate_mesh(m, vo);
+      say("after round " + std::to_string(round) + ": " + r.after.summary());
       if (r.after.is_solid()) break;
+      if (std::getenv("FREP_DEBUG_REPAIR_DUMP")) { write_mesh(std::getenv("FREP_DEBUG_REPAIR_DUMP"), m); std::exit(0); }
       const bool only_holes = count(r.after, DefectKind::OpenEdges) > 0 &&
                               count(r.after, DefectKind::SelfIntersections) == 0 &&
                               count(r.after, DefectKind::Overlaps) == 0 &&
@@ -594,6 +599,22 @@ RepairResult repair_mesh(const TriMesh& input, const RepairOptions& options) {
   return {std::move(m), std::move(r)};
 }
 
+std::string repair_summary(const RepairReport& r) {
+  if (!r.changed) return "nothing to repair";
+  std::string s;
+  const auto add = [&](const std::string& part) { s += (s.empty() ? "" : ", ") + part; };
+  if (r.remeshed) return "no exact repair: remeshed its winding-number field at " + std::to_string(r.remeshed) +
+                         " cells (" + std::to_string(r.triangles_out) + " triangles, volume " + fmt_g(r.volume_after) + ")";
+  if (r.degenerate_removed) add("removed " + std::to_string(r.degenerate_removed) + " flat triangles");
+  if (r.triangles_turned || r.shells_turned)
+    add("turned " + std::to_string(r.triangles_turned) + " triangles and " + std::to_string(r.shells_turned) + " shells");
+  if (r.cut_triangles) add("cut " + std::to_string(r.cut_triangles) + " triangles where they meet");
+  if (r.patches_removed) add("removed " + std::to_string(r.patches_removed) + " inner patches");
+  if (r.vertices_separated) add("separated touching bodies at " + std::to_string(r.vertices_separated) + " vertices");
+  if (!r.holes.empty()) add("filled " + std::to_string(r.holes.size()) + " holes");
+  return s + "; volume " + fmt_g(r.volume_after) + (r.exact ? " (exact)" : "");
+}
+
 std::string format_repair_report(const RepairReport& r) {
   std::string s = r.file + ": " + std::to_string(r.triangles_in) + " triangles in, " + std::to_string(r.triangles_out) +
                   " out\n  before: " + r.before.summary() + "\n";
@@ -617,8 +638,11 @@ std::string format_repair_report(const RepairReport& r) {
   s += "  volume: " + fmt_g(r.volume_before) + " before (signed, overlaps counted as often as covered), " +
        fmt_g(r.volume_after) + " after\n";
   for (const std::string& n : r.notes) s += "  note: " + n + "\n";
-  s += std::string("  ") + (r.exact ? "exact: the output bounds the region the input winds around"
-                                    : "approximate where holes were filled; exact elsewhere") + "\n";
+  if (r.remeshed)
+    s += "  approximate: remeshed the winding-number signed distance at " + std::to_string(r.remeshed) + " cells across\n";
+  else
+    s += std::string("  ") + (r.exact ? "exact: the output bounds the region the input winds around"
+                                      : "approximate where holes were filled; exact elsewhere") + "\n";
   s += "  after: " + r.after.summary() + "\n";
   return s;
 }
@@ -634,7 +658,7 @@ std::string repair_report_json(const RepairReport& r) {
        ",\n  \"patches\": " + num(r.patches) + ",\n  \"patches_removed\": " + num(r.patches_removed) +
        ",\n  \"area_removed\": " + json_num(r.area_removed) + ",\n  \"patches_flipped\": " + num(r.patches_flipped) + ",\n  \"triangles_turned\": " + num(r.triangles_turned) +
        ",\n  \"shells_turned\": " + num(r.shells_turned) +
-       ",\n  \"vertices_separated\": " + num(r.vertices_separated) + ",\n  \"rounds\": " + std::to_string(r.rounds) + ",\n";
+       ",\n  \"vertices_separated\": " + num(r.vertices_separated) + ",\n  \"remeshed\": " + std::to_string(r.remeshed) + ",\n  \"rounds\": " + std::to_string(r.rounds) + ",\n";
   s += "  \"removed_at\": [";
   for (std::size_t i = 0; i < r.removed_at.size(); ++i)
     s += (i ? ", [" : "[") + json_num(r.removed_at[i].x) + ", " + json_num(r.removed_at[i].y) + ", " +

@@ -42,6 +42,8 @@ struct ConvertOptions {
   int threads = 0;            // worker threads for the mesh check (0: all cores)
   std::string tetgen = "tetgen";  // the TetGen program (SignMode::Tetrahedra), found on PATH
   double tetgen_timeout = 600;    // seconds before TetGen is stopped and the conversion fails
+  // load_field: repair meshes that are not valid solids first (make_solid), instead of refusing them.
+  bool repair = false;
   // Called now and then with a stage name and the fraction of the whole job done (0 to 1).
   std::function<void(const char* stage, double fraction)> progress;
 };
@@ -58,6 +60,7 @@ struct ConvertStats {
   double seconds = 0;              // wall time of the conversion, check included
   Box3 box;                        // bounding box of the triangles' corners (the solid's extent)
   std::vector<std::string> read_warnings;  // load_field: what the mesh reader tolerated (TriMesh::warnings)
+  std::string repaired;                    // load_field with repair: what the repair did (one line), if anything
 };
 
 struct ConvertResult {

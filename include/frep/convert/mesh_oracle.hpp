@@ -32,6 +32,10 @@ class MeshOracle final : public Oracle {
   // The same with its closed form given as .frep bytes (version 2, no oracles): what a .frep
   // file keeps, so that its formula stays bit for bit what was converted (TetGen's signs too).
   MeshOracle(const TriMesh& mesh, const ConvertOptions& options, std::shared_ptr<const std::string> closed_form_frep);
+  // Any mesh with triangles, valid solid or not: broken ones are signed by the generalized winding
+  // number (inside where it is at least 1/2), the field repair's approximation meshes. Their
+  // closed form cannot be built (closed_form throws the check's InputError).
+  static std::shared_ptr<const MeshOracle> any_mesh(const TriMesh& mesh, const ConvertOptions& options = {});
 
   const MeshField& field() const { return field_; }
   const std::string& name() const { return name_; }
@@ -55,6 +59,8 @@ class MeshOracle final : public Oracle {
   std::optional<RayHit> first_hit(const Vec3& o, const Vec3& dir, double t_max) const override;
 
  private:
+  struct AnyMesh {};
+  MeshOracle(const TriMesh& mesh, const ConvertOptions& options, AnyMesh);
   MeshField field_;
   TriMesh mesh_;  // as read: what the closed form converts
   std::string name_;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "frep/error.hpp"
 #include "frep/mesh/mesh.hpp"
 #include "frep/mesh/validate.hpp"
 
@@ -23,6 +24,15 @@ struct RepairOptions {
   int threads = 0;            // worker threads for the checks (0: all cores)
   int max_rounds = 3;         // rounds of cutting (rounding the cut points to double may cross again)
   bool quiet = true;          // false: progress lines on stderr
+  // make_solid only (frep/convert/make_solid.hpp): cells across the approximation made where no
+  // exact repair is found (0: refuse instead).
+  int remesh_resolution = 256;
+};
+
+// What repair_mesh throws when it runs out of time (RepairOptions::time_limit).
+class RepairStopped : public InputError {
+ public:
+  using InputError::InputError;
 };
 
 // A hole filled: where, how big.
@@ -57,7 +67,8 @@ struct RepairReport {
   double volume_after = 0;             // volume of the solid
   int rounds = 0;                      // rounds of cutting run
   bool changed = false;                // the output differs from the input (welded)
-  bool exact = true;                   // no hole filled: the output bounds exactly the input's solid
+  bool exact = true;                   // no hole filled, not remeshed: the output bounds exactly the input's solid
+  int remeshed = 0;                    // > 0: remeshed at this many cells across (make_solid's approximation)
   std::vector<std::string> notes;      // what the user should know, one sentence each
 };
 
@@ -70,6 +81,9 @@ struct RepairResult {
 // made into one (no triangles, no enclosed volume, holes with fill_holes off, a failure of the
 // exact arithmetic, the time limit) gives an InputError naming the file and saying why.
 RepairResult repair_mesh(const TriMesh& mesh, const RepairOptions& options = {});
+
+// One line: what was done ("cut 334 triangles, removed 3 patches, ...; exact").
+std::string repair_summary(const RepairReport& r);
 
 // The report as text (what frep repair prints) and as JSON (frep repair --json).
 std::string format_repair_report(const RepairReport& r);
