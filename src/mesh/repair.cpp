@@ -12,12 +12,10 @@
 #include <mutex>
 #include <numeric>
 #include <optional>
-#include <cstdlib>
 
 #include "frep/error.hpp"
 #include "frep/mesh/bvh.hpp"
 #include "frep/mesh/mesh_distance.hpp"
-#include "frep/mesh/mesh_io.hpp"
 #include "frep/mesh/topology.hpp"
 #include "frep/mesh/weld.hpp"
 #include "frep/util/json.hpp"
@@ -466,7 +464,6 @@ TriMesh cut_and_keep(const TriMesh& m, RepairReport& r, const Deadline& deadline
       if (std::fabs(back - 0.5) < 0.25) back = md.winding_number_exact(centre - n * delta);
       const bool in_front = front >= 0.5, in_back = back >= 0.5;
       if (std::fabs(front - 0.5) < 0.25 || std::fabs(back - 0.5) < 0.25) ++unsure;
-      if (std::getenv("FREP_DEBUG_REPAIR")) std::fprintf(stderr, "patch %zu rep %u delta %g front %.6f back %.6f\n", p, rep[p], delta, front, back);
       if (in_front != in_back) keep[p] = static_cast<signed char>(in_back ? 1 : -1);
     }
   });
@@ -564,7 +561,6 @@ RepairResult repair_mesh(const TriMesh& input, const RepairOptions& options) {
       r.after = validate_mesh(m, vo);
       say("after round " + std::to_string(round) + ": " + r.after.summary());
       if (r.after.is_solid()) break;
-      if (std::getenv("FREP_DEBUG_REPAIR_DUMP")) { write_mesh(std::getenv("FREP_DEBUG_REPAIR_DUMP"), m); std::exit(0); }
       const bool only_holes = count(r.after, DefectKind::OpenEdges) > 0 &&
                               count(r.after, DefectKind::SelfIntersections) == 0 &&
                               count(r.after, DefectKind::Overlaps) == 0 &&
