@@ -3,7 +3,9 @@
 // frep/sample/grid.hpp, docs/sampling.md).
 #include <fmt/core.h>
 
+#include <cfloat>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -29,7 +31,46 @@ Box3 parse_bounds(const std::vector<double>& v) {
   for (int a = 0; a < 3; ++a)
     if (!std::isfinite(b.lo[a]) || !std::isfinite(b.hi[a]) || !(b.lo[a] < b.hi[a]))
       throw CLI::ValidationError("--bounds", "needs finite numbers with x0 < x1, y0 < y1, z0 < z1");
+  // Samples are float32 points: bounds beyond float range would give infinite coordinates.
+  for (double c : v)
+    if (!(std::fabs(c) <= FLT_MAX))
+      throw CLI::ValidationError("--bounds", fmt::format("{:g} is beyond the range of 32-bit floats (+-3.4e38), "
+                                                         "which samples are written in", c));
   return b;
+}
+
+// Writes no inf or NaN into a file meant for training: the first sample that is not finite
+// refuses the whole run, naming its point and the option that put it there. A distance is
+// finite wherever it fits a float (converted expressions included: frep convert's stay finite
+// far from the part); beyond, or where an expression of the user's divides by zero, it is not.
+void refuse_non_finite(const std::vector<float>& data, const std::optional<GridSpec>& grid, std::size_t uniform_rows,
+                       const std::string& input, bool mesh) {
+  std::size_t bad = 0, first = 0;
+  const std::size_t n = grid ? data.size() : data.size() / 4;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!std::isfinite(data[grid ? i : 4 * i + 3]) && bad++ == 0) first = i;
+  if (bad == 0) return;
+  Vec3 p;
+  const char* option = "--bounds";
+  if (grid) {
+    const std::size_t nz = static_cast<std::size_t>(grid->counts[2]), ny = static_cast<std::size_t>(grid->counts[1]);
+    p = {grid->coord(0, static_cast<int>(first / (ny * nz))), grid->coord(1, static_cast<int>(first / nz % ny)),
+         grid->coord(2, static_cast<int>(first % nz))};
+  } else {
+    p = {data[4 * first], data[4 * first + 1], data[4 * first + 2]};
+    if (first >= uniform_rows) option = "--sigma";
+  }
+  const float v = data[grid ? first : 4 * first + 3];
+  throw InputError(
+      input, 0,
+      fmt::format("the {} is {} at ({:g}, {:g}, {:g}) ({} of {} samples), and frep sample writes only finite values: "
+                  "give {} {}{}",
+                  mesh ? "distance" : "field", v, p.x, p.y, p.z, bad, n, std::isnan(v) ? "other" : "a smaller", option,
+                  mesh ? " (a distance beyond 3.4e38 does not fit a 32-bit float)"
+                  : std::isnan(v)
+                      ? ""
+                      : " (a distance beyond 3.4e38 does not fit a 32-bit float; expressions converted by an earlier "
+                        "frep overflow about 2e19 from their part: convert them again)"));
 }
 
 }  // namespace
@@ -123,6 +164,7 @@ void register_sample(CLI::App& app) {
     std::vector<std::size_t> shape;
     std::string what;
     Box3 used;  // the bounds sampled, printed so that another run can reuse them
+    bool from_mesh = false;
     try {
       if (!a->grid)
         require_memory(total_points, 32, "sampling " + std::to_string(total_points) + " points", "sample fewer points");
@@ -148,6 +190,7 @@ void register_sample(CLI::App& app) {
         if (mo && map.is_identity()) mesh_field = &mo->field();
       }
       if (mesh_field) {
+        from_mesh = true;
         const MeshField& field = *mesh_field;
         const Box3 b = bounds ? *bounds : default_mesh_bounds(field.box());
         used = b;
@@ -215,6 +258,8 @@ void register_sample(CLI::App& app) {
       if (!e.file().empty()) throw;
       throw InputError(a->input, e.line(), e.detail(), e.byte_offset());
     }
+    refuse_non_finite(data, a->grid ? std::optional<GridSpec>(cube_grid(used, a->grid)) : std::nullopt, a->points,
+                      a->input, from_mesh);
     if (a->grid) shape = {std::size_t(a->grid), std::size_t(a->grid), std::size_t(a->grid)};
     else shape = {data.size() / 4, 4};
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

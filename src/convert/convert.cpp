@@ -13,6 +13,7 @@
 #include "convert/tetgen.hpp"
 #include "frep/error.hpp"
 #include "frep/expr/expr.hpp"
+#include "frep/mesh/coordinate_range.hpp"
 #include "frep/mesh/topology.hpp"
 #include "frep/mesh/validate.hpp"
 #include "frep/mesh/weld.hpp"
@@ -126,6 +127,9 @@ void check_convertible(const std::string& name, const ValidationReport& check) {
 ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   if (!(o.tetgen_timeout > 0)) throw InputError(mesh.name, 0, "the TetGen time limit must be positive");
+  // Before the check: a mesh beyond float range or precision is refused for what it is (the
+  // check's exact predicates would see a valid solid or a flat one), naming the vertex.
+  check_coordinate_range(mesh);
   report(o, "checking", 0.0);
   ValidationOptions vo;
   vo.weld_tolerance = o.weld_tolerance;
@@ -185,17 +189,29 @@ ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
   // subset's distance is never smaller, inside or out), and strictly below it for a slightly
   // grown box: max(distance, box distance) is the distance, bit for bit, yet its interval far
   // away starts at the box distance.
+  //
+  // Very far away (2^64 frame units), the terms' squares overflow f32 and the field would be inf.
+  // Beyond 2^60 units from the box on some axis, the distance to the box, computed in units of
+  // 2^66 (exact scalings: no square overflows for any float point, none underflows that far), is
+  // the distance to within the box's size, below a float's rounding there: it replaces the
+  // field. Nearer, the select is the field bit for bit (intervals settle it). The max with the
+  // box's Chebyshev distance `inside`, a lower bound of the signed distance everywhere (inside the
+  // box too: the solid lies in it), keeps the intervals of boxes reaching that far off 0.
   const auto with_box_bound = [&](ExprBuilder& b, NodeId root) {
     const std::array<NodeId, 3> xyz = b.coords();
     const double grow = 1e-3 * length(box.size()) + margin;
-    Expr outside(g, g.constant(0.0f)), inside(g, kNoNode);
+    Expr outside(g, g.constant(0.0f)), inside(g, kNoNode), far2(g, kNoNode);
     for (int k = 0; k < 3; ++k) {
       const Expr q = abs(Expr(g, xyz[k]) - static_cast<float>(box.center()[k])) -
                      static_cast<float>(0.5 * box.size()[k] + grow);
       outside = outside + square(max(q, 0.0f));
       inside = k == 0 ? q : max(inside, q);
+      const Expr scaled = square(max(q, 0.0f) * 0x1p-66f);
+      far2 = k == 0 ? scaled : far2 + scaled;
     }
-    return max(Expr(g, root), sqrt(outside) + min(inside, 0.0f)).id();
+    const Expr near = max(Expr(g, root), sqrt(outside) + min(inside, 0.0f));
+    const Expr far = sqrt(far2) * 0x1p66f;
+    return max(logical_or(logical_and(max(inside - 0x1p60f, 0.0f), far), near), inside).id();
   };
   if (o.sign == SignMode::Pseudonormal) {
     ExprBuilder b(g, points, f, margin, frame);

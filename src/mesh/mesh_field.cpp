@@ -7,6 +7,7 @@
 
 #include "frep/error.hpp"
 #include "frep/mesh/bvh.hpp"
+#include "frep/mesh/coordinate_range.hpp"
 #include "frep/mesh/topology.hpp"
 #include "frep/mesh/validate.hpp"
 
@@ -14,6 +15,7 @@ namespace frep {
 
 MeshField::MeshField(const TriMesh& mesh, const MeshFieldOptions& options) {
   mesh.check_consistent();
+  check_coordinate_range(mesh);  // beyond float range or precision: refused, naming the vertex
   ValidationOptions vo;
   vo.weld_tolerance = options.weld_tolerance;
   vo.threads = options.threads;
