@@ -624,7 +624,8 @@ std::string format_repair_report(const RepairReport& r) {
          std::to_string(r.touching_pairs) + " touching pairs; " + std::to_string(r.new_vertices) + " new vertices\n";
   s += "  " + std::to_string(r.patches) + " patches: " + std::to_string(r.patches_removed) + " removed (area " +
        fmt_g(r.area_removed) + "), " + std::to_string(r.patches_flipped) + " turned to face outside\n";
-  for (const Vec3& p : r.removed_at) s += "    removed a patch at " + fmt_point(p) + "\n";
+  for (std::size_t i = 0; i < std::min<std::size_t>(r.removed_at.size(), 5); ++i)
+    s += "    removed a patch at " + fmt_point(r.removed_at[i]) + "\n";
   for (const FilledHole& h : r.holes)
     s += "  filled a hole of " + std::to_string(h.boundary_edges) + " edges at " + fmt_point(h.at) + " (area " +
          fmt_g(h.area) + ")\n";
