@@ -10,7 +10,9 @@
 #include <filesystem>
 
 #include "convert_test_util.hpp"
+#include "frep/convert/make_solid.hpp"
 #include "frep/error.hpp"
+#include "frep/mesh/validate.hpp"
 #include "frep/mesh/mesh_io.hpp"
 #include "mesh_test_util.hpp"
 
@@ -54,6 +56,25 @@ void check_mesh(const std::string& file, SignMode sign, std::size_t uniform = 30
 }
 
 class ConvertAccuracy : public ::testing::TestWithParam<std::string> {};
+
+// Benchy, the benchmark of 3D printing, crosses itself: repaired exactly, its converted expression
+// matches the repaired mesh's exact distance.
+TEST(SharedMeshes, RepairedBenchyConvertsExactly) {
+  FREP_REQUIRE_SHARED_MESHES();
+  const TriMesh input = read_mesh(test::shared_mesh_dir() + "/benchy.stl");
+  ASSERT_FALSE(validate_mesh(input).is_solid());
+  const RepairResult repaired = make_solid(input);
+  ASSERT_TRUE(repaired.report.exact);
+  ASSERT_TRUE(validate_mesh(repaired.mesh).is_solid());
+  const ConvertResult r = convert_mesh(repaired.mesh);
+  const test::Samples s = test::sample_around(repaired.mesh, 2000, 2000, 500);
+  const test::Accuracy a = test::measure(r.model, repaired.mesh, s);
+  std::printf("[convert-accuracy] benchy.stl repaired: %zu points, max error %.3g of the diagonal, %zu sign errors\n",
+              a.count, a.max_error, a.sign_errors);
+  EXPECT_EQ(a.nonfinite, 0u);
+  EXPECT_LE(a.max_error, 1e-5) << a.worst;
+  EXPECT_EQ(a.sign_errors, 0u);
+}
 
 TEST_P(ConvertAccuracy, Pseudonormal) {
   FREP_REQUIRE_SHARED_MESHES();
