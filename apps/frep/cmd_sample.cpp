@@ -90,7 +90,7 @@ void register_sample(CLI::App& app) {
     std::uint64_t seed = 0;
     double weld_tolerance = 0;
     int threads = 0;
-    bool quiet = false;
+    bool quiet = false, repair = false;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("INPUT", a->input, "Mesh (.stl, .obj, .ply, .off) or expression (.vm, .rhai, .frep)")->required();
@@ -137,6 +137,7 @@ void register_sample(CLI::App& app) {
       ->check(finite_non_negative());
   cmd->add_option("--threads", a->threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0, 1024));
   cmd->add_flag("--quiet,-q", a->quiet, "Print nothing but errors");
+  add_repair_option(cmd, a->repair);
   cmd->callback([a] {
     if (a->grid == 0 && a->points == 0 && a->near == 0)
       throw CLI::ValidationError("frep sample", "give --grid N, --points P or --near-surface K --sigma S");
@@ -178,13 +179,13 @@ void register_sample(CLI::App& app) {
         fo.sign = a->sign == "winding" ? SignMethod::WindingNumber : SignMethod::Pseudonormal;
         fo.weld_tolerance = a->weld_tolerance;
         fo.threads = a->threads;
-        own.emplace(read_mesh_noting(a->input), fo);
+        own.emplace(repaired_if_asked(read_mesh_noting(a->input), a->repair, a->quiet), fo);
         mesh_field = &*own;
         if (!own->solid() && !a->quiet)
           std::fprintf(stderr, "frep sample: %s: %s; signs from the winding number\n", a->input.c_str(),
                        own->summary().c_str());
       } else {
-        model.emplace(load_input(a->input, a->quiet));
+        model.emplace(load_input(a->input, a->quiet, nullptr, a->repair));
         Affine3 map;
         const MeshOracle* mo = as_mesh_oracle(*model->graph, model->root, &map);
         if (mo && map.is_identity()) mesh_field = &mo->field();
