@@ -4,6 +4,8 @@
 
 #include "commands.hpp"
 #include "input.hpp"
+#include "frep/error.hpp"
+#include "frep/mesh/coordinate_range.hpp"
 #include "frep/mesh/mesh_io.hpp"
 #include "frep/mesh/validate.hpp"
 
@@ -41,6 +43,19 @@ void register_check(CLI::App& app) {
     const std::string out = a->json ? report.to_json() : report.to_text();
     std::fwrite(out.data(), 1, out.size(), stdout);
     std::fflush(stdout);
+    // A solid whose coordinates float arithmetic cannot carry is no usable solid either.
+    std::string beyond;
+    if (report.is_solid()) {
+      try {
+        check_coordinate_range(mesh);
+      } catch (const InputError& e) {
+        beyond = e.detail();
+      }
+    }
+    if (!beyond.empty()) {
+      std::fprintf(stderr, "frep: %s: a valid solid, but not usable: %s\n", a->file.c_str(), beyond.c_str());
+      std::exit(4);
+    }
     if (!report.is_solid()) {
       if (a->json) std::fprintf(stderr, "frep: %s: %s\n", a->file.c_str(), report.summary().c_str());
       std::exit(4);
