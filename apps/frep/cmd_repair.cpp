@@ -17,7 +17,7 @@ void register_repair(CLI::App& app) {
   struct Args {
     std::string mesh, output;
     bool json = false, quiet = false, no_fill = false, ascii = false;
-    double weld_tolerance = 0, time_limit = 0;
+    double weld_tolerance = 0, time_limit = 600;
     int threads = 0, resolution = 256;
   };
   auto a = std::make_shared<Args>();
@@ -30,7 +30,7 @@ void register_repair(CLI::App& app) {
   cmd->add_option("--weld-tolerance", a->weld_tolerance,
                   "Merge vertices closer than this first (default 0: identical positions only)")
       ->check(finite_non_negative());
-  cmd->add_option("--time-limit", a->time_limit, "Give up after this many seconds (default 0: no limit)")
+  cmd->add_option("--time-limit", a->time_limit, "Give up after this many seconds of cutting (default 600; 0: no limit)")
       ->check(finite_non_negative());
   cmd->add_option("-r,--resolution", a->resolution,
                   "Cells across the approximation made where no exact repair is found (the winding-number field, "

@@ -20,7 +20,7 @@ namespace frep {
 struct RepairOptions {
   double weld_tolerance = 0;  // vertices closer than this are merged first (0: exactly equal ones)
   bool fill_holes = true;     // fill the holes left open (false: refuse a mesh with holes)
-  double time_limit = 0;      // seconds before giving up with an InputError (0: no limit)
+  double time_limit = 600;    // seconds before giving up with RepairStopped (0: no limit)
   int threads = 0;            // worker threads for the checks (0: all cores)
   int max_rounds = 3;         // rounds of cutting (rounding the cut points to double may cross again)
   bool quiet = true;          // false: progress lines on stderr
