@@ -47,6 +47,8 @@ void register_repair(CLI::App& app) {
     opt.threads = a->threads;
     opt.quiet = a->quiet || a->json;
     opt.remesh_resolution = a->resolution;
+    // STL stores floats: the repair works on float coordinates, so that what is written is what was checked.
+    opt.float_coordinates = format_from_extension(a->output) == MeshFormat::Stl;
     RepairResult r = make_solid(mesh, opt);
     MeshWriteOptions wo;
     wo.ascii = a->ascii;

@@ -8,6 +8,7 @@
 #include "frep/util/large_allocator.hpp"
 #include "frep/util/memory_budget.hpp"
 #include "frep/util/thread_pool.hpp"
+#include "frep/util/json.hpp"
 
 #include "frep/expr/opcode.hpp"
 #include "frep/expr/semantics.hpp"
@@ -46,6 +47,8 @@
 #include "frep/mesh/mesh_distance.hpp"
 #include "frep/mesh/mesh_field.hpp"
 #include "frep/mesh/mesh_pair.hpp"
+#include "frep/mesh/coordinate_range.hpp"
+#include "frep/mesh/repair.hpp"
 
 #include "frep/render/image.hpp"
 #include "frep/render/render2d.hpp"
@@ -56,6 +59,7 @@
 
 #include "frep/convert/convert.hpp"
 #include "frep/convert/mesh_oracle.hpp"
+#include "frep/convert/make_solid.hpp"
 
 #include "frep/sample/grid.hpp"
 #include "frep/sample/points.hpp"

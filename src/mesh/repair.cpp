@@ -508,12 +508,108 @@ TriMesh cut_and_keep(const TriMesh& m, RepairReport& r, const Deadline& deadline
   return out;
 }
 
-// How far separate_touching moves vertices: 2^-32 of the mesh's size, far above the rounding of
-// its coordinates and far below any feature one could print or machine.
-double touching_gap(const TriMesh& m) {
+// How far separate_touching moves vertices: 2^-32 of the mesh's size (2^-18 when coordinates are
+// floats), far above the rounding of its coordinates and far below any feature one could print
+// or machine.
+double touching_gap(const TriMesh& m, bool floats) {
   Box3 box;
   for (const Vec3& v : m.vertices) box.add(v);
-  return std::ldexp(length(box.size()), -32);
+  return std::ldexp(length(box.size()), floats ? -18 : -32);
+}
+
+// Rounds every coordinate to the nearest float (which the caller then welds and cleans again).
+void round_to_float(TriMesh& m) {
+  for (Vec3& v : m.vertices)
+    v = {static_cast<double>(static_cast<float>(v.x)), static_cast<double>(static_cast<float>(v.y)),
+         static_cast<double>(static_cast<float>(v.z))};
+}
+
+// With float coordinates, a rounded cut point may land across a triangle that passes within a
+// unit of the last place (nearly coincident surfaces). Each such point (not an input vertex) is
+// tried at the floats around it, one unit of the last place either way in each coordinate, and
+// kept where its triangles cross or overlap the fewest others. Returns the crossings left.
+std::size_t settle_float_points(TriMesh& m, const std::vector<Vec3>& input_points) {
+  std::vector<Vec3> fixed = input_points;
+  const auto less = [](const Vec3& a, const Vec3& b) {
+    return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : a.z < b.z);
+  };
+  std::sort(fixed.begin(), fixed.end(), less);
+  const std::size_t nt = m.triangles.size(), nv = m.vertices.size();
+  std::vector<std::uint32_t> start(nv + 1, 0), faces(3 * nt);
+  for (const Triangle& t : m.triangles)
+    for (std::uint32_t v : t) ++start[v + 1];
+  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::uint32_t f = 0; f < nt; ++f)
+      for (std::uint32_t v : m.triangles[f]) faces[fill[v]++] = f;
+  }
+  const auto bad_contacts = [&](std::uint32_t f, const TriangleBvh& bvh) {
+    const Triangle& ta = m.triangles[f];
+    Box3 box;
+    for (std::uint32_t v : ta) box.add(m.vertices[v]);
+    box = box.inflated(1e-6 * (std::fabs(box.lo.x) + std::fabs(box.lo.y) + std::fabs(box.lo.z) + length(box.size())));
+    std::size_t bad = 0;
+    bvh.for_each_meeting(box, [&](std::uint32_t g) {
+      if (g == f) return;
+      const Triangle& tb = m.triangles[g];
+      const Vec3 p[3] = {m.vertices[ta[0]], m.vertices[ta[1]], m.vertices[ta[2]]};
+      const Vec3 q[3] = {m.vertices[tb[0]], m.vertices[tb[1]], m.vertices[tb[2]]};
+      const unsigned pi[3] = {ta[0], ta[1], ta[2]}, qi[3] = {tb[0], tb[1], tb[2]};
+      const Contact k = classify_triangle_pair(p, pi, q, qi);
+      bad += k == Contact::Cross || k == Contact::Overlap;
+    });
+    return bad;
+  };
+  std::size_t left = 0;
+  for (int pass = 0; pass < 4; ++pass) {
+    const TriangleBvh bvh(m);
+    std::vector<std::uint32_t> suspects;
+    std::mutex lock;
+    bvh.for_each_overlapping_pair_parallel(0, [&](std::uint32_t a, std::uint32_t b, int) {
+      const Triangle &ta = m.triangles[a], &tb = m.triangles[b];
+      const Vec3 p[3] = {m.vertices[ta[0]], m.vertices[ta[1]], m.vertices[ta[2]]};
+      const Vec3 q[3] = {m.vertices[tb[0]], m.vertices[tb[1]], m.vertices[tb[2]]};
+      const unsigned pi[3] = {ta[0], ta[1], ta[2]}, qi[3] = {tb[0], tb[1], tb[2]};
+      const Contact k = classify_triangle_pair(p, pi, q, qi);
+      if (k != Contact::Cross && k != Contact::Overlap) return;
+      std::lock_guard<std::mutex> g(lock);
+      for (std::uint32_t v : ta) suspects.push_back(v);
+      for (std::uint32_t v : tb) suspects.push_back(v);
+    });
+    std::sort(suspects.begin(), suspects.end());
+    suspects.erase(std::unique(suspects.begin(), suspects.end()), suspects.end());
+    if (suspects.empty()) return 0;
+    bool moved = false;
+    left = 0;
+    for (std::uint32_t v : suspects) {
+      if (std::binary_search(fixed.begin(), fixed.end(), m.vertices[v], less)) continue;
+      const Vec3 home = m.vertices[v];
+      const auto score = [&] {
+        std::size_t bad = 0;
+        for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) bad += bad_contacts(faces[i], bvh);
+        return bad;
+      };
+      std::size_t best = score();
+      Vec3 best_at = home;
+      const auto step = [](double x, int d) {
+        const float f = static_cast<float>(x);
+        return static_cast<double>(d == 0 ? f : std::nextafter(f, d > 0 ? INFINITY : -INFINITY));
+      };
+      for (int dx = -1; dx <= 1 && best > 0; ++dx)
+        for (int dy = -1; dy <= 1 && best > 0; ++dy)
+          for (int dz = -1; dz <= 1 && best > 0; ++dz) {
+            m.vertices[v] = {step(home.x, dx), step(home.y, dy), step(home.z, dz)};
+            const std::size_t b = score();
+            if (b < best) best = b, best_at = m.vertices[v];
+          }
+      m.vertices[v] = best_at;
+      moved = moved || !(best_at.x == home.x && best_at.y == home.y && best_at.z == home.z);
+      left += best;
+    }
+    if (!moved) break;
+  }
+  return left;
 }
 
 std::size_t count(const ValidationReport& v, DefectKind k) { return v.defect(k).count; }
@@ -536,31 +632,55 @@ RepairResult repair_mesh(const TriMesh& input, const RepairOptions& options) {
     if (!options.quiet) std::fprintf(stderr, "frep: repair: %s (%.2f s)\n", s.c_str(), deadline.seconds());
   };
 
+  TriMesh rounded;
+  if (options.float_coordinates) {
+    rounded = input;
+    round_to_float(rounded);
+    r.before = validate_mesh(rounded, vo);
+  }
+  const TriMesh& in = options.float_coordinates ? rounded : input;
   TriMesh m;
   if (r.before.is_solid()) {
     // Nothing to cut: the welded input as it is (its zero-area triangles close it).
-    m = weld(input, {options.weld_tolerance}).mesh;
+    m = weld(in, {options.weld_tolerance}).mesh;
     m.origins.clear();
     r.after = r.before;
   } else {
-    m = clean(input, options.weld_tolerance, r.degenerate_removed);
+    m = clean(in, options.weld_tolerance, r.degenerate_removed);
     if (!m.triangles.empty()) orient_sheets(m, r);
     vo.weld_tolerance = 0;
-    for (int round = 1; round <= std::max(1, options.max_rounds); ++round) {
+    const int rounds = std::max(1, options.max_rounds) * (options.float_coordinates ? 2 : 1);
+    std::size_t last_defects = 0;
+    for (int round = 1; round <= rounds; ++round) {
       if (m.triangles.empty()) break;
       r.rounds = round;
       say("round " + std::to_string(round) + ": cutting " + std::to_string(m.triangles.size()) + " triangles");
       m = cut_and_keep(m, r, deadline, options.threads);
       std::size_t dropped = 0;
-      m = clean(m, 0, dropped);
+      // Rounded to float, cut points may land across a triangle that passes within a unit of
+      // the last place: settle_float_points moves them to a float that does not; what is left
+      // crossing, the next round cuts.
+      const double snap = 0;
+      if (options.float_coordinates) round_to_float(m);
+      m = clean(m, snap, dropped);
       if (m.triangles.empty()) break;
-      if (const std::size_t split = separate_touching(m, touching_gap(m))) {
+      if (options.float_coordinates) settle_float_points(m, in.vertices);
+      if (const std::size_t split = separate_touching(m, touching_gap(m, options.float_coordinates))) {
         r.vertices_separated += split;
+        if (options.float_coordinates) round_to_float(m);
         m = clean(m, 0, dropped);
       }
       r.after = validate_mesh(m, vo);
       say("after round " + std::to_string(round) + ": " + r.after.summary());
       if (r.after.is_solid()) break;
+      // Another round helps where rounding left a few crossings; where the defects grow instead,
+      // the exact path has failed (make_solid then approximates).
+      std::size_t defects = 0;
+      for (DefectKind k : {DefectKind::OpenEdges, DefectKind::NonManifoldEdges, DefectKind::SelfIntersections,
+                           DefectKind::Overlaps, DefectKind::InconsistentOrientation, DefectKind::DuplicateTriangles})
+        defects += count(r.after, k);
+      if (round > 1 && defects >= last_defects) break;
+      last_defects = defects;
       const bool only_holes = count(r.after, DefectKind::OpenEdges) > 0 &&
                               count(r.after, DefectKind::SelfIntersections) == 0 &&
                               count(r.after, DefectKind::Overlaps) == 0 &&
@@ -574,7 +694,9 @@ RepairResult repair_mesh(const TriMesh& input, const RepairOptions& options) {
         r.holes.insert(r.holes.end(), filled.holes.begin(), filled.holes.end());
         if (filled.unfaired)
           r.notes.push_back(std::to_string(filled.unfaired) + " filled holes could not be faired (left flat)");
-        m = clean(filled.mesh, 0, dropped);
+        m = std::move(filled.mesh);
+        if (options.float_coordinates) round_to_float(m);
+        m = clean(m, 0, dropped);
         r.after = validate_mesh(m, vo);
         if (r.after.is_solid()) break;
       } else if (only_holes) {
@@ -631,7 +753,8 @@ std::string format_repair_report(const RepairReport& r) {
          fmt_g(h.area) + ")\n";
   if (r.vertices_separated)
     s += "  separated the bodies at " + std::to_string(r.vertices_separated) +
-         " vertices where they touch (each copy moved 2^-32 of the size into its own body)\n";
+         " vertices where they touch (each copy moved a hair, 2^-32 of the size or 2^-18 with float coordinates, into its own body)\n";
+  s += "  components: " + std::to_string(r.before.components) + " before, " + std::to_string(r.after.components) + " after\n";
   s += "  volume: " + fmt_g(r.volume_before) + " before (signed, overlaps counted as often as covered), " +
        fmt_g(r.volume_after) + " after\n";
   for (const std::string& n : r.notes) s += "  note: " + n + "\n";

@@ -300,6 +300,31 @@ TEST(Repair, RandomSoupsGiveASolidOrAReason) {
   }
 }
 
+// An exact repair's output: every vertex on the input's surface (within 1e-9 of the diagonal),
+// and inside where the input's winding number is at least 1/2, at random points of the box
+// (the exact sum decides wherever the hierarchy's estimate is near 1/2).
+void expect_same_solid(const TriMesh& input, const TriMesh& output) {
+  const MeshDistance in(input), out(output);
+  const Box3 box = bounding_box(input);
+  const double diag = length(box.size());
+  double worst = 0;
+  for (const Vec3& p : output.vertices) worst = std::max(worst, in.unsigned_distance(p));
+  EXPECT_LE(worst, 1e-9 * diag);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  int differ = 0;
+  const auto inside = [](const MeshDistance& md, const Vec3& q) {
+    double w = md.winding_number(q);
+    if (std::fabs(w - 0.5) < 0.3) w = md.winding_number_exact(q);
+    return w >= 0.5;
+  };
+  for (int i = 0; i < 20000; ++i) {
+    const Vec3 q = box.lo + Vec3{u(rng) * box.size().x, u(rng) * box.size().y, u(rng) * box.size().z};
+    differ += inside(in, q) != inside(out, q);
+  }
+  EXPECT_EQ(differ, 0);
+}
+
 // Every broken shared mesh: a valid solid, or a refusal that names the file and says why.
 TEST(SharedMeshes, RepairEveryBrokenMesh) {
   FREP_REQUIRE_SHARED_MESHES();
@@ -323,6 +348,8 @@ TEST(SharedMeshes, RepairEveryBrokenMesh) {
       const RepairResult r = make_solid(m, o);
       EXPECT_TRUE(validate_mesh(r.mesh).is_solid());
       ++repaired;
+      // Exact, and the winding number of the input as it was (no triangle or shell turned).
+      if (r.report.exact && r.report.triangles_turned == 0 && r.report.shells_turned == 0) expect_same_solid(m, r.mesh);
     } catch (const InputError& e) {
       EXPECT_EQ(e.file(), path);
       EXPECT_FALSE(e.detail().empty());

@@ -24,6 +24,9 @@ struct RepairOptions {
   int threads = 0;            // worker threads for the checks (0: all cores)
   int max_rounds = 3;         // rounds of cutting (rounding the cut points to double may cross again)
   bool quiet = true;          // false: progress lines on stderr
+  // Every output coordinate a float, for formats that store floats (STL): the input is rounded to
+  // float first and every point the repair makes too, and the checks run on those coordinates.
+  bool float_coordinates = false;
   // make_solid only (frep/convert/make_solid.hpp): cells across the approximation made where no
   // exact repair is found (0: refuse instead).
   int remesh_resolution = 256;
