@@ -42,9 +42,7 @@ RepairResult make_solid(const TriMesh& mesh, const RepairOptions& options) {
                                          "with wide holes bounds no clear volume)");
     }
     r.mesh.name = mesh.name;
-    if (options.float_coordinates)
-      for (Vec3& v : r.mesh.vertices)
-        v = {double(static_cast<float>(v.x)), double(static_cast<float>(v.y)), double(static_cast<float>(v.z))};
+    if (options.float_coordinates) round_vertices_to_float(r.mesh);
     if (r.mesh.triangles.empty())
       throw InputError(mesh.name, 0, "the mesh encloses no volume (no part of it has winding number 1/2 or more)");
     RepairReport& rep = r.report;

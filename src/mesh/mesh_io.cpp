@@ -23,6 +23,15 @@ void TriMesh::check_consistent() const {
                                       " of " + std::to_string(vertices.size()));
 }
 
+void round_vertices_to_float(TriMesh& mesh) {
+  // Over the coordinates as one flat array: GCC 12 at -O3 miscompiles the loop over Vec3s
+  // (its vectorized epilogue rounds only z).
+  static_assert(sizeof(Vec3) == 3 * sizeof(double));
+  double* c = mesh.vertices.empty() ? nullptr : &mesh.vertices[0].x;
+  const std::size_t n = 3 * mesh.vertices.size();
+  for (std::size_t i = 0; i < n; ++i) c[i] = static_cast<double>(static_cast<float>(c[i]));
+}
+
 Box3 bounding_box(const TriMesh& mesh) {
   Box3 b;
   for (const Triangle& t : mesh.triangles)

@@ -517,12 +517,6 @@ double touching_gap(const TriMesh& m, bool floats) {
   return std::ldexp(length(box.size()), floats ? -18 : -32);
 }
 
-// Rounds every coordinate to the nearest float (which the caller then welds and cleans again).
-void round_to_float(TriMesh& m) {
-  for (Vec3& v : m.vertices)
-    v = {static_cast<double>(static_cast<float>(v.x)), static_cast<double>(static_cast<float>(v.y)),
-         static_cast<double>(static_cast<float>(v.z))};
-}
 
 // With float coordinates, a rounded cut point may land across a triangle that passes within a
 // unit of the last place (nearly coincident surfaces). Each such point (not an input vertex) is
@@ -635,7 +629,7 @@ RepairResult repair_mesh(const TriMesh& input, const RepairOptions& options) {
   TriMesh rounded;
   if (options.float_coordinates) {
     rounded = input;
-    round_to_float(rounded);
+    round_vertices_to_float(rounded);
     r.before = validate_mesh(rounded, vo);
   }
   const TriMesh& in = options.float_coordinates ? rounded : input;
@@ -661,13 +655,13 @@ RepairResult repair_mesh(const TriMesh& input, const RepairOptions& options) {
       // the last place: settle_float_points moves them to a float that does not; what is left
       // crossing, the next round cuts.
       const double snap = 0;
-      if (options.float_coordinates) round_to_float(m);
+      if (options.float_coordinates) round_vertices_to_float(m);
       m = clean(m, snap, dropped);
       if (m.triangles.empty()) break;
       if (options.float_coordinates) settle_float_points(m, in.vertices);
       if (const std::size_t split = separate_touching(m, touching_gap(m, options.float_coordinates))) {
         r.vertices_separated += split;
-        if (options.float_coordinates) round_to_float(m);
+        if (options.float_coordinates) round_vertices_to_float(m);
         m = clean(m, 0, dropped);
       }
       r.after = validate_mesh(m, vo);
@@ -695,7 +689,7 @@ RepairResult repair_mesh(const TriMesh& input, const RepairOptions& options) {
         if (filled.unfaired)
           r.notes.push_back(std::to_string(filled.unfaired) + " filled holes could not be faired (left flat)");
         m = std::move(filled.mesh);
-        if (options.float_coordinates) round_to_float(m);
+        if (options.float_coordinates) round_vertices_to_float(m);
         m = clean(m, 0, dropped);
         r.after = validate_mesh(m, vo);
         if (r.after.is_solid()) break;

@@ -242,6 +242,40 @@ TEST(Repair, RandomUnionsOfBoxesAndSpheres) {
   }
 }
 
+// Every coordinate, whatever the count (a vectorizing compiler once rounded only z of the last few).
+TEST(Repair, RoundVerticesToFloatRoundsEveryCoordinate) {
+  for (std::size_t n = 1; n <= 9; ++n) {
+    TriMesh m;
+    for (std::size_t i = 0; i < n; ++i) m.vertices.push_back({0.1 + i, 0.2 + i, 0.3 + i});
+    round_vertices_to_float(m);
+    for (const Vec3& v : m.vertices)
+      for (double c : {v.x, v.y, v.z}) EXPECT_EQ(c, double(static_cast<float>(c))) << n;
+  }
+}
+
+// STL stores floats: with float_coordinates every output coordinate is a float and the solid is
+// valid as such (spheres crossing at arbitrary angles make cut points no float can hold).
+TEST(Repair, FloatCoordinatesForStl) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> pos(-0.6, 0.6), radius(0.5, 1.0);
+  for (int trial = 0; trial < 4; ++trial) {
+    TriMesh in;
+    for (int k = 0; k < 3; ++k) in = join({in, moved(test::make_sphere(2, radius(rng)), {pos(rng), pos(rng), pos(rng)})});
+    RepairOptions o;
+    o.float_coordinates = true;
+    const RepairResult r = repair_mesh(in, o);
+    for (const Vec3& v : r.mesh.vertices) {
+      EXPECT_EQ(v.x, double(static_cast<float>(v.x)));
+      EXPECT_EQ(v.y, double(static_cast<float>(v.y)));
+      EXPECT_EQ(v.z, double(static_cast<float>(v.z)));
+    }
+    EXPECT_TRUE(validate_mesh(r.mesh).is_solid()) << validate_mesh(r.mesh).summary();
+    // Written as STL and read back, still the same valid solid.
+    const TriMesh back = read_mesh_from_memory(write_mesh_to_string(r.mesh, MeshFormat::Stl), "back.stl");
+    EXPECT_TRUE(validate_mesh(back).is_solid());
+  }
+}
+
 TEST(Repair, RefusesWhatBoundsNothing) {
   TriMesh sheet;
   sheet.name = "sheet.stl";

@@ -58,4 +58,7 @@ struct TriMesh {
 // Axis-aligned bounding box of the vertices that triangles use (of all vertices if none is used).
 Box3 bounding_box(const TriMesh& mesh);
 
+// Rounds every vertex coordinate to the nearest float (what formats that store floats, STL, keep).
+void round_vertices_to_float(TriMesh& mesh);
+
 }  // namespace frep
