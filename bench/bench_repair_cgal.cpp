@@ -1,4 +1,4 @@
-// The same-run baseline for `frep repair` (issue 22): CGAL 5.5's own repair calls on each mesh,
+// The same-run baseline for `frep repair`: CGAL 5.5's own repair calls on each mesh,
 // timed stage by stage, one TSV line per mesh.
 //   build/bench/bench_repair_cgal [--time-limit S] [--memory-limit MB] [--no-extras] [--no-header]
 //                                 [-o DIR [--stl]] MESH...
@@ -26,8 +26,8 @@
 // With -o DIR the result is written as DIR/NAME.cgal.obj (coordinates rounded to doubles, %.17g),
 // or with --stl as DIR/NAME.cgal.stl (binary STL: rounded to floats), untimed, for `frep check`.
 //
-// CGAL's assertions are kept on (NDEBUG is undefined for this file, as in the measurement quoted
-// in issue 22): an inconsistent state then becomes an exception with its place instead of a
+// CGAL's assertions are kept on (NDEBUG is undefined for this file, as CGAL is usually measured
+// with them): an inconsistent state then becomes an exception with its place instead of a
 // crash or a silently wrong mesh. Build with -DFREP_CGAL_NO_ASSERTIONS to time CGAL without them.
 //
 // Columns: seconds per stage; cgal_s = the CGAL calls (the stages but load); total_s = the child's

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `frep repair` against CGAL's own repair calls on the same meshes, in the same run (issue 22):
+# `frep repair` against CGAL's own repair calls on the same meshes, in the same run:
 #   before   `frep check FILE`: solid, not solid, or unreadable
 #   frep     `frep repair FILE -o OUT.stl --json`, the whole process timed (wall clock, and its
 #            peak memory by /usr/bin/time), and `frep check OUT.stl` (after)
