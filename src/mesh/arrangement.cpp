@@ -246,30 +246,39 @@ class Arranger {
     const int u = (axis + 1) % 3, w = (axis + 2) % 3;
     const auto project = [&](const P3& p) { return P2(p[u], p[w]); };
 
+    // Points first, all at once (CGAL sorts them spatially and walks from the last one: one by
+    // one, locating each from scratch dominated large coplanar groups), then the constraints
+    // between their vertex handles.
     Cdt cdt;
     std::map<P2, std::uint32_t, Less2> id2;
-    const auto insert = [&](std::uint32_t v) {
+    std::vector<P2> points;
+    const auto add = [&](std::uint32_t v) {
       const P2 q = project(vertex(v));
-      if (id2.emplace(q, v).second) return cdt.insert(q);
-      return Cdt::Vertex_handle();
+      if (id2.emplace(q, v).second) points.push_back(q);
     };
     std::vector<std::array<P2, 3>> shapes;
     std::vector<int> signs;
+    std::vector<std::array<std::uint32_t, 2>> constraints;
     for (std::uint32_t t : members) {
       const Triangle& f = m_.triangles[t];
-      for (std::uint32_t v : f) insert(v);
+      for (std::uint32_t v : f) add(v);
       const Cuts& c = cuts_.at(t);
-      for (std::uint32_t v : c.points) insert(v);
+      for (std::uint32_t v : c.points) add(v);
       std::array<P2, 3> s = {project(vertex(f[0])), project(vertex(f[1])), project(vertex(f[2]))};
       shapes.push_back(s);
       signs.push_back(CGAL::orientation(s[0], s[1], s[2]) == CGAL::LEFT_TURN ? 1 : -1);
+      for (int k = 0; k < 3; ++k) constraints.push_back({f[k], f[(k + 1) % 3]});
+      for (const auto& seg : c.segments) constraints.push_back(seg);
     }
-    for (std::uint32_t t : members) {
-      const Triangle& f = m_.triangles[t];
-      for (int k = 0; k < 3; ++k) cdt.insert_constraint(project(vertex(f[k])), project(vertex(f[(k + 1) % 3])));
-      for (const auto& s : cuts_.at(t).segments) cdt.insert_constraint(project(vertex(s[0])), project(vertex(s[1])));
-      poll();
+    cdt.insert(points.begin(), points.end());
+    std::map<P2, Cdt::Vertex_handle, Less2> handle;
+    for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) handle.emplace(v->point(), v);
+    poll();
+    for (const auto& c : constraints) {
+      const Cdt::Vertex_handle a = handle.at(project(vertex(c[0]))), b = handle.at(project(vertex(c[1])));
+      if (a != b) cdt.insert_constraint(a, b);
     }
+    poll();
     // A point made where constraints cross lies in the plane: its dropped coordinate from the
     // plane's equation.
     const P3 origin = first.vertex(0);
