@@ -21,6 +21,7 @@
 #include "frep/io/load.hpp"
 #include "frep/io/save.hpp"
 #include "frep/mesh/mesh_io.hpp"
+#include "frep/mesh/validate.hpp"
 #include "mesh_test_util.hpp"
 #include "test_util.hpp"
 
@@ -45,10 +46,39 @@ TEST(Convert, RefusesMeshesCheckRejects) {
   TriMesh inward = test::make_box();
   for (Triangle& t : inward.triangles) std::swap(t[1], t[2]);
   EXPECT_NE(message_of(inward).find("inward"), std::string::npos) << message_of(inward);
-  // Zero-area triangles (valid for `frep check`, but their sign is undefined): a box face split
-  // at a point on an edge, leaving a sliver of three collinear corners.
-  TriMesh flat = test::make_box();
-  EXPECT_EQ(message_of(flat), "");
+}
+
+// Zero-area triangles are valid for `frep check` (a warning), but the sign next to them is
+// undefined, so the converter refuses them (docs/convert.md, "What it refuses"), naming the file
+// and the first such triangle with its line. The mesh: a box whose face triangle (0, 2, 1) is
+// split at the midpoint m of its edge 1-0 into (0, 2, m) and (m, 2, 1), with the sliver
+// (0, m, 1) closing the crack along that edge: closed, manifold, outward, one zero-area triangle.
+TEST(Convert, RefusesZeroAreaTrianglesNamingTheFirst) {
+  for (int at : {0, 5, 13}) {  // where the sliver sits among the triangles (and so its line)
+    TriMesh box = test::make_box();
+    ASSERT_EQ(box.triangles[0], (Triangle{0, 2, 1}));
+    TriMesh flat;
+    flat.name = "sliver_box.obj";
+    flat.vertices = box.vertices;
+    flat.vertices.push_back((box.vertices[0] + box.vertices[1]) * 0.5);  // 8, on the edge 0-1
+    std::vector<Triangle> tris(box.triangles.begin() + 1, box.triangles.end());
+    tris.push_back({0, 2, 8});
+    tris.push_back({8, 2, 1});
+    tris.insert(tris.begin() + at, Triangle{0, 8, 1});
+    for (std::uint32_t t = 0; t < tris.size(); ++t) flat.add_triangle(tris[t][0], tris[t][1], tris[t][2], t, 100 + t);
+    // What frep check sees: a solid, with exactly this one zero-area triangle.
+    const ValidationReport check = validate_mesh(flat);
+    ASSERT_TRUE(check.is_solid()) << check.to_text();
+    ASSERT_EQ(check.defect(DefectKind::ZeroAreaTriangles).count, 1u) << check.to_text();
+    const std::string msg = message_of(flat);
+    EXPECT_NE(msg.find("sliver_box.obj"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("1 zero-area triangles"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("the first is triangle " + std::to_string(at) + ", line " + std::to_string(100 + at)),
+              std::string::npos)
+        << msg;
+    // The same box without the split converts.
+    EXPECT_EQ(message_of(box), "");
+  }
 }
 
 TEST(Convert, RefusesSelfIntersectingBenchyInBothSignModes) {
