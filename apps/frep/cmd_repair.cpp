@@ -17,7 +17,7 @@ void register_repair(CLI::App& app) {
   struct Args {
     std::string mesh, output;
     bool json = false, quiet = false, no_fill = false, ascii = false;
-    double weld_tolerance = 0, time_limit = 600;
+    double weld_tolerance = 0, weld_relative = 1e-7, time_limit = 600;
     int threads = 0, resolution = 256;
   };
   auto a = std::make_shared<Args>();
@@ -28,7 +28,11 @@ void register_repair(CLI::App& app) {
   cmd->add_flag("--no-fill", a->no_fill, "Refuse meshes with holes instead of filling them");
   cmd->add_flag("--ascii", a->ascii, "ASCII STL instead of binary");
   cmd->add_option("--weld-tolerance", a->weld_tolerance,
-                  "Merge vertices closer than this first (default 0: identical positions only)")
+                  "Merge vertices closer than this first, closing cracks (default 0: --weld-relative decides)")
+      ->check(finite_non_negative());
+  cmd->add_option("--weld-relative", a->weld_relative,
+                  "Without --weld-tolerance: merge vertices closer than this fraction of the bounding-box diagonal "
+                  "(default 1e-7; 0: identical positions only)")
       ->check(finite_non_negative());
   cmd->add_option("--time-limit", a->time_limit, "Give up after this many seconds of cutting (default 600; 0: no limit)")
       ->check(finite_non_negative());
@@ -42,6 +46,7 @@ void register_repair(CLI::App& app) {
     const TriMesh mesh = read_mesh_noting(a->mesh);
     RepairOptions opt;
     opt.weld_tolerance = a->weld_tolerance;
+    opt.weld_relative = a->weld_relative;
     opt.fill_holes = !a->no_fill;
     opt.time_limit = a->time_limit;
     opt.threads = a->threads;

@@ -60,8 +60,9 @@ bool zero_area(const Vec3& a, const Vec3& b, const Vec3& c) {
 
 // Welded (within `tolerance`), without the triangles that bound nothing (a repeated vertex,
 // collinear corners), which are counted in `removed`. Unused vertices are dropped.
-TriMesh clean(const TriMesh& m, double tolerance, std::size_t& removed) {
+TriMesh clean(const TriMesh& m, double tolerance, std::size_t& removed, std::size_t* merged = nullptr) {
   WeldResult w = weld(m, {tolerance});
+  if (merged) *merged = w.merged;
   TriMesh out;
   out.name = m.name;
   std::vector<std::uint32_t> index(w.mesh.vertices.size(), kNoVertex);
@@ -640,7 +641,19 @@ RepairResult repair_mesh(const TriMesh& input, const RepairOptions& options) {
     m.origins.clear();
     r.after = r.before;
   } else {
-    m = clean(in, options.weld_tolerance, r.degenerate_removed);
+    // Cracks: vertices closer than the tolerance (by default a fraction of the part's size) are
+    // merged; where coordinates are too far from the origin for that fraction to be resolved,
+    // only identical positions.
+    const Box3 box = bounding_box(in);
+    double tol = options.weld_tolerance > 0 ? options.weld_tolerance : options.weld_relative * length(box.size());
+    const double far = std::max({std::fabs(box.lo.x), std::fabs(box.lo.y), std::fabs(box.lo.z), std::fabs(box.hi.x),
+                                 std::fabs(box.hi.y), std::fabs(box.hi.z)});
+    if (!(tol > 0) || !std::isfinite(tol) || !(far / tol < 1e15)) tol = options.weld_tolerance;
+    r.weld_tolerance = tol;
+    std::size_t merged = 0;
+    m = clean(in, tol, r.degenerate_removed, &merged);
+    // Merges within the exact weld are what frep check welds too: count only the closed cracks.
+    r.vertices_merged = merged - weld(in, {options.weld_tolerance}).merged;
     if (!m.triangles.empty()) orient_sheets(m, r);
     vo.weld_tolerance = 0;
     const int rounds = std::max(1, options.max_rounds) * (options.float_coordinates ? 2 : 1);
@@ -717,6 +730,7 @@ std::string repair_summary(const RepairReport& r) {
   const auto add = [&](const std::string& part) { s += (s.empty() ? "" : ", ") + part; };
   if (r.remeshed) return "no exact repair: remeshed its winding-number field at " + std::to_string(r.remeshed) +
                          " cells (" + std::to_string(r.triangles_out) + " triangles, volume " + fmt_g(r.volume_after) + ")";
+  if (r.vertices_merged) add("merged " + std::to_string(r.vertices_merged) + " vertices (cracks)");
   if (r.degenerate_removed) add("removed " + std::to_string(r.degenerate_removed) + " flat triangles");
   if (r.triangles_turned || r.shells_turned)
     add("turned " + std::to_string(r.triangles_turned) + " triangles and " + std::to_string(r.shells_turned) + " shells");
@@ -731,6 +745,8 @@ std::string format_repair_report(const RepairReport& r) {
   std::string s = r.file + ": " + std::to_string(r.triangles_in) + " triangles in, " + std::to_string(r.triangles_out) +
                   " out\n  before: " + r.before.summary() + "\n";
   if (!r.changed) return s + "  nothing to repair\n";
+  if (r.vertices_merged)
+    s += "  merged " + std::to_string(r.vertices_merged) + " vertices closer than " + fmt_g(r.weld_tolerance) + " (cracks)\n";
   if (r.degenerate_removed) s += "  removed " + std::to_string(r.degenerate_removed) + " triangles that bound nothing (a repeated vertex or collinear corners)\n";
   if (r.triangles_turned) s += "  turned " + std::to_string(r.triangles_turned) + " triangles to agree with their neighbours\n";
   if (r.shells_turned) s += "  turned " + std::to_string(r.shells_turned) + " closed shells that faced inward (not cavities)\n";
@@ -766,6 +782,7 @@ std::string repair_report_json(const RepairReport& r) {
   std::string s = "{\n  \"file\": \"" + json_escape(r.file) + "\",\n";
   s += "  \"triangles_in\": " + num(r.triangles_in) + ",\n  \"triangles_out\": " + num(r.triangles_out) + ",\n";
   s += "  \"changed\": " + std::string(r.changed ? "true" : "false") + ",\n  \"exact\": " + (r.exact ? "true" : "false") + ",\n";
+  s += "  \"weld_tolerance\": " + json_num(r.weld_tolerance) + ",\n  \"vertices_merged\": " + num(r.vertices_merged) + ",\n";
   s += "  \"degenerate_removed\": " + num(r.degenerate_removed) + ",\n  \"crossing_pairs\": " + num(r.crossing_pairs) +
        ",\n  \"overlapping_pairs\": " + num(r.overlapping_pairs) + ",\n  \"touching_pairs\": " + num(r.touching_pairs) +
        ",\n  \"cut_triangles\": " + num(r.cut_triangles) + ",\n  \"new_vertices\": " + num(r.new_vertices) +

@@ -125,6 +125,31 @@ TEST(Repair, BoxMissingAFaceIsFilled) {
   EXPECT_NEAR(r.report.after.volume, 1, 1e-9);
 }
 
+// A crack: one corner stored twice, 1e-9 apart (a CAD export's rounding). The weld closes it at
+// the default tolerance (1e-7 of the diagonal).
+TEST(Repair, CracksCloseByARelativeWeld) {
+  TriMesh in = make_box({0, 0, 0}, {1, 1, 1});
+  in.origins.clear();
+  in.vertices.push_back(in.vertices[7] + Vec3{1e-9, 0, 0});
+  const auto copy = static_cast<std::uint32_t>(in.vertices.size() - 1);
+  int replaced = 0;
+  for (Triangle& t : in.triangles)
+    for (std::uint32_t& v : t)
+      if (v == 7 && replaced < 2) v = copy, ++replaced;
+  ASSERT_FALSE(validate_mesh(in).is_solid());
+  const RepairResult r = repair_mesh(in);
+  EXPECT_TRUE(validate_mesh(r.mesh).is_solid());
+  EXPECT_EQ(r.report.vertices_merged, 1u);
+  EXPECT_TRUE(r.report.holes.empty());
+  EXPECT_NEAR(r.report.after.volume, 1, 1e-8);
+  // With the relative weld off, nothing is merged (the cut closes the crack exactly instead).
+  RepairOptions exact_only;
+  exact_only.weld_relative = 0;
+  const RepairResult e = repair_mesh(in, exact_only);
+  EXPECT_EQ(e.report.vertices_merged, 0u);
+  EXPECT_TRUE(validate_mesh(e.mesh).is_solid());
+}
+
 TEST(Repair, HoleFillingCanBeRefused) {
   TriMesh in = make_box({0, 0, 0}, {1, 1, 1});
   in.triangles.pop_back();

@@ -18,7 +18,8 @@
 namespace frep {
 
 struct RepairOptions {
-  double weld_tolerance = 0;  // vertices closer than this are merged first (0: exactly equal ones)
+  double weld_tolerance = 0;    // vertices closer than this are merged first (0: weld_relative decides)
+  double weld_relative = 1e-7;  // when weld_tolerance is 0: this fraction of the box diagonal (0: exact positions only)
   bool fill_holes = true;     // fill the holes left open (false: refuse a mesh with holes)
   double time_limit = 600;    // seconds before giving up with RepairStopped (0: no limit)
   int threads = 0;            // worker threads for the checks (0: all cores)
@@ -51,6 +52,8 @@ struct RepairReport {
   std::size_t triangles_in = 0, triangles_out = 0;
   ValidationReport before;          // frep check of the input
   ValidationReport after;           // frep check of the output
+  double weld_tolerance = 0;           // the distance within which vertices were merged
+  std::size_t vertices_merged = 0;     // vertices merged into others by that weld (cracks closed)
   std::size_t degenerate_removed = 0;  // collapsed and zero-area triangles (they bound nothing)
   std::size_t triangles_turned = 0;    // turned to agree with the rest of their sheet
   std::size_t shells_turned = 0;       // closed shells turned outward (they faced inward and are no cavity)
