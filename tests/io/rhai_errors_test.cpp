@@ -100,6 +100,23 @@ TEST(RhaiErrors, RunawayScriptsStopAtTheStepLimit) {
   EXPECT_TRUE(fails_at("let e = x + 1;\nfor i in 0..100 { e = e.remap(x * 2 + e, y, z); }\ne", 2, 45, "steps", o));
 }
 
+// The limits docs/rhai.md states, at their boundary: 199 parentheses, 99 calls, blocks or arrays.
+TEST(RhaiErrors, NestingLimitsAreWhereTheDocsSay) {
+  const auto nest = [](const std::string& open, int n, const std::string& inner, const std::string& close) {
+    std::string s;
+    for (int i = 0; i < n; ++i) s += open;
+    s += inner;
+    for (int i = 0; i < n; ++i) s += close;
+    return s;
+  };
+  EXPECT_NO_THROW(test::run_rhai(nest("(", 199, "x", ")")));
+  EXPECT_TRUE(fails_at(nest("(", 200, "x", ")"), 1, 201, "nested more than 200 levels"));
+  EXPECT_NO_THROW(test::run_rhai(nest("abs(", 99, "x", ")")));
+  EXPECT_TRUE(fails_at(nest("abs(", 100, "x", ")"), 1, 401, "nested more than 200 levels"));
+  EXPECT_NO_THROW(test::run_rhai(nest("{", 99, "x", "}")));
+  EXPECT_TRUE(fails_at(nest("{", 100, "x", "}"), 1, 101, "nested more than 200 levels"));
+}
+
 TEST(RhaiErrors, NestingLimitsGiveErrorsNotCrashes) {
   const int n = 100000;
   // Deep parentheses, unary operators, blocks, arrays, calls and `**` chains: a clear error.
