@@ -197,7 +197,6 @@ std::size_t separate_touching(TriMesh& m, double gap) {
   std::sort(uses.begin(), uses.end(), [](const Use& x, const Use& y) { return x.key < y.key; });
   constexpr std::uint32_t kNone = 0xffffffffu;
   std::vector<std::uint32_t> partner(3 * nt, kNone);  // per (face, edge): the face across, in its wedge
-  bool any = false;
   for (std::size_t i = 0; i < uses.size();) {
     std::size_t j = i;
     while (j < uses.size() && uses[j].key == uses[i].key) ++j;
@@ -206,7 +205,6 @@ std::size_t separate_touching(TriMesh& m, double gap) {
       partner[3 * uses[i].face + uses[i].k] = uses[i + 1].face;
       partner[3 * uses[i + 1].face + uses[i + 1].k] = uses[i].face;
     } else if (count > 2) {
-      any = true;
       const std::uint32_t va = static_cast<std::uint32_t>(uses[i].key >> 32), vb = static_cast<std::uint32_t>(uses[i].key);
       const Vec3 a = m.vertices[va];
       Vec3 d = m.vertices[vb] - a;
@@ -308,7 +306,6 @@ std::size_t separate_touching(TriMesh& m, double gap) {
       }
     }
   }
-  (void)any;
   return split;
 }
 
@@ -322,7 +319,6 @@ struct EdgeUse {
 // One round: seeds, the arrangement, patches, the winding number on both sides of each patch,
 // and the pieces kept, facing outside.
 TriMesh cut_and_keep(const TriMesh& m, RepairReport& r, const Deadline& deadline, int threads) {
-  const std::size_t nt = m.triangles.size();
   const MeshTopology topo(m);
   const TriangleBvh bvh(m);
   deadline.poll();
@@ -667,9 +663,8 @@ RepairResult repair_mesh(const TriMesh& input, const RepairOptions& options) {
       // Rounded to float, cut points may land across a triangle that passes within a unit of
       // the last place: settle_float_points moves them to a float that does not; what is left
       // crossing, the next round cuts.
-      const double snap = 0;
       if (options.float_coordinates) round_vertices_to_float(m);
-      m = clean(m, snap, dropped);
+      m = clean(m, 0, dropped);
       if (m.triangles.empty()) break;
       if (options.float_coordinates) settle_float_points(m, in.vertices);
       if (const std::size_t split = separate_touching(m, touching_gap(m, options.float_coordinates))) {
