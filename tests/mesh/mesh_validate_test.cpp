@@ -2,6 +2,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
@@ -180,7 +181,16 @@ TEST(Validate, EachDefectIsFoundAndLocated) {
 }
 
 // frep's own counts on every shared mesh (docs/check.md defines each; where they differ from
-// the MANIFEST's notes it says why, or that the MANIFEST's tool counts differently).
+// the MANIFEST's notes it says why, or that the MANIFEST's tool counts differently). What guards
+// each figure:
+// - edges, components, genus, open, non-manifold and inconsistent edges, non-manifold vertices,
+//   duplicate, zero-area, collapsed and needle triangles, unused and duplicate vertices: derived
+//   again, independently of the library's weld, topology and checks, from docs/check.md's
+//   definitions (IndependentCounts below, SharedCountsAgreeWithAnIndependentCount).
+// - self_intersections, overlaps, touching_pairs (pair classes of the exact triangle-triangle
+//   test): regression values of frep's own classification. They were compared with the
+//   MANIFEST's tool (docs/check.md lists where they differ), and the classification itself is
+//   tested against an independent construction (TriTri.AgreesWithConstructionOnRandomTriangles).
 const std::map<std::string, std::string> kSharedCounts = {
     {"cube_unit_bin.stl", "edges=18 components=1 genus=0"},
     {"cube_quads.off", "edges=18 components=1 genus=0"},
@@ -282,6 +292,235 @@ TEST(Validate, VerdictsMatchSharedManifest) {
     ++checked;
   }
   EXPECT_GE(checked, 30);
+}
+
+// Exact zero test of a - b (the doubles' exact difference) times c - d minus e - f times g - h,
+// with error-free transformations (sum and product split into a rounded part and its exact
+// error) accumulated into a non-overlapping expansion: zero exactly when every part is zero.
+class ExactSum {
+ public:
+  void add(double x) {  // grows the expansion by x, exactly (zeros dropped)
+    std::vector<double> next;
+    for (double e : parts_) {
+      const double s = x + e, bv = s - x, err = (x - (s - bv)) + (e - bv);
+      if (err != 0) next.push_back(err);
+      x = s;
+    }
+    if (x != 0) next.push_back(x);
+    parts_ = std::move(next);
+  }
+  void add_product(const std::array<double, 2>& u, const std::array<double, 2>& v, double sign) {
+    for (double a : u)
+      for (double b : v) {
+        const double p = a * b, e = std::fma(a, b, -p);
+        add(sign * p), add(sign * e);
+      }
+  }
+  bool zero() const { return parts_.empty(); }
+
+ private:
+  std::vector<double> parts_;
+};
+
+std::array<double, 2> exact_difference(double a, double b) {  // a - b = [0] + [1] exactly
+  const double s = a - b, bv = a - s, err = (a - (s + bv)) + (bv - b);
+  return {s, err};
+}
+
+// Whether the triangle's three corners are exactly collinear: the cross product of b - a and
+// c - a is exactly zero in every component.
+bool exactly_collinear(const Vec3& a, const Vec3& b, const Vec3& c) {
+  for (int k = 0; k < 3; ++k) {
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    ExactSum s;
+    s.add_product(exact_difference(b[i], a[i]), exact_difference(c[j], a[j]), 1);
+    s.add_product(exact_difference(b[j], a[j]), exact_difference(c[i], a[i]), -1);
+    if (!s.zero()) return false;
+  }
+  return true;
+}
+
+// The topological counts of docs/check.md, from its definitions alone: vertices welded by exact
+// position (a map of coordinates), edges as sorted vertex pairs in a map, components and fans by
+// a plain union-find. Nothing of the library's weld, topology or validation is used.
+std::map<std::string, std::string> independent_counts(const TriMesh& m) {
+  std::map<std::array<double, 3>, std::uint32_t> position_id;  // -0 and 0 compare equal: one position
+  std::vector<std::uint32_t> weld(m.vertices.size());
+  for (std::size_t v = 0; v < m.vertices.size(); ++v) {
+    const std::array<double, 3> key{m.vertices[v].x, m.vertices[v].y, m.vertices[v].z};
+    weld[v] = position_id.emplace(key, static_cast<std::uint32_t>(position_id.size())).first->second;
+  }
+  std::vector<char> referenced(m.vertices.size(), 0);
+  std::vector<std::array<std::uint32_t, 3>> tris;  // usable triangles, welded
+  std::vector<std::uint32_t> tri_index;              // their index in the file
+  std::uint64_t collapsed = 0, zero_area = 0, needles = 0, duplicates = 0;
+  std::map<std::array<std::uint32_t, 3>, int> seen;
+  for (std::uint32_t t = 0; t < m.triangles.size(); ++t) {
+    for (std::uint32_t v : m.triangles[t]) referenced[v] = 1;
+    const std::array<std::uint32_t, 3> w{weld[m.triangles[t][0]], weld[m.triangles[t][1]], weld[m.triangles[t][2]]};
+    if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) {
+      ++collapsed;
+      continue;
+    }
+    tris.push_back(w), tri_index.push_back(t);
+    std::array<std::uint32_t, 3> sorted = w;
+    std::sort(sorted.begin(), sorted.end());
+    duplicates += seen[sorted]++ > 0;
+    const Vec3 a = m.corner(t, 0), b = m.corner(t, 1), c = m.corner(t, 2);
+    if (exactly_collinear(a, b, c)) {
+      ++zero_area;
+      continue;
+    }
+    const Vec3 n = cross(b - a, c - a);
+    const double e2 = dot(b - a, b - a) + dot(c - b, c - b) + dot(a - c, a - c);
+    needles += 4 * std::sqrt(3.0) * 0.5 * length(n) < 1e-4 * e2;
+  }
+  std::uint64_t unused = 0;
+  for (char r : referenced) unused += !r;
+  // Indexed formats: vertices minus distinct positions; STL repeats corners by design.
+  const std::uint64_t duplicate_vertices = m.indexed ? m.vertices.size() - position_id.size() : 0;
+
+  // Edges: the triangles on each (lower, higher) vertex pair, and how many run lower to higher.
+  struct EdgeUse {
+    std::vector<std::uint32_t> tris;
+    int forward = 0;
+  };
+  std::map<std::pair<std::uint32_t, std::uint32_t>, EdgeUse> edges;
+  for (std::uint32_t t = 0; t < tris.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = tris[t][k], b = tris[t][(k + 1) % 3];
+      EdgeUse& e = edges[{std::min(a, b), std::max(a, b)}];
+      e.tris.push_back(t);
+      e.forward += a < b;
+    }
+  std::uint64_t open = 0, non_manifold = 0, inconsistent = 0;
+  std::vector<std::uint32_t> parent(tris.size());
+  const auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (std::uint32_t t = 0; t < tris.size(); ++t) parent[t] = t;
+  for (const auto& [key, e] : edges) {
+    open += e.tris.size() == 1;
+    non_manifold += e.tris.size() > 2;
+    inconsistent += e.tris.size() == 2 && e.forward != 1;
+    for (std::uint32_t t : e.tris) parent[find(t)] = find(e.tris[0]);
+  }
+  std::uint64_t components = 0;
+  for (std::uint32_t t = 0; t < tris.size(); ++t) components += find(t) == t;
+  // Fans: around each vertex, its triangles joined through the manifold edges (two triangles) at it.
+  std::map<std::uint32_t, std::vector<std::uint32_t>> around;
+  for (std::uint32_t t = 0; t < tris.size(); ++t)
+    for (std::uint32_t v : tris[t]) around[v].push_back(t);
+  std::uint64_t pinched = 0;
+  for (const auto& [v, ts] : around) {
+    std::map<std::uint32_t, std::uint32_t> fan;  // triangle -> parent, within this vertex
+    for (std::uint32_t t : ts) fan[t] = t;
+    const auto root = [&](std::uint32_t x) {
+      while (fan[x] != x) x = fan[x];
+      return x;
+    };
+    for (std::uint32_t t : ts)
+      for (std::uint32_t o : tris[t]) {
+        if (o == v) continue;
+        const EdgeUse& e = edges.at({std::min(v, o), std::max(v, o)});
+        if (e.tris.size() == 2) fan[root(e.tris[0])] = root(e.tris[1]);
+      }
+    std::uint64_t fans = 0;
+    for (std::uint32_t t : ts) fans += root(t) == t && fan[t] == t;
+    pinched += fans > 1;
+  }
+  std::string genus = "-";
+  if (open == 0 && non_manifold == 0 && pinched == 0 && inconsistent == 0) {
+    const std::int64_t euler = std::int64_t(around.size()) - std::int64_t(edges.size()) + std::int64_t(tris.size());
+    genus = std::to_string((2 * std::int64_t(components) - euler) / 2);
+  }
+  return {{"edges", std::to_string(edges.size())},
+          {"components", std::to_string(components)},
+          {"genus", genus},
+          {"open_edges", std::to_string(open)},
+          {"non_manifold_edges", std::to_string(non_manifold)},
+          {"non_manifold_vertices", std::to_string(pinched)},
+          {"inconsistent_orientation", std::to_string(inconsistent)},
+          {"duplicate_triangles", std::to_string(duplicates)},
+          {"zero_area_triangles", std::to_string(zero_area)},
+          {"collapsed_triangles", std::to_string(collapsed)},
+          {"needle_triangles", std::to_string(needles)},
+          {"unused_vertices", std::to_string(unused)},
+          {"duplicate_vertices", std::to_string(duplicate_vertices)}};
+}
+
+// "key=value ..." as a map; a defect key that is absent counts 0.
+std::map<std::string, std::string> parse_counts(const std::string& text) {
+  std::map<std::string, std::string> r;
+  std::istringstream in(text);
+  for (std::string item; in >> item;) {
+    const std::size_t eq = item.find('=');
+    r[item.substr(0, eq)] = item.substr(eq + 1);
+  }
+  return r;
+}
+
+// The figures of kSharedCounts that can be derived without the library's checks are derived
+// again here, independently, on every shared mesh.
+TEST(Validate, SharedCountsAgreeWithAnIndependentCount) {
+  FREP_REQUIRE_SHARED_MESHES();
+  int checked = 0;
+  for (const auto& [file, expected_text] : kSharedCounts) {
+    const TriMesh m = read_mesh(test::shared_mesh_dir() + "/" + file);
+    const std::map<std::string, std::string> expected = parse_counts(expected_text), got = independent_counts(m);
+    for (const auto& [key, value] : got) {
+      const auto it = expected.find(key);
+      EXPECT_EQ(it == expected.end() ? std::string("0") : it->second, value) << file << ": " << key;
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 30);
+}
+
+// The independent count itself, on meshes whose counts are known by construction: a box, and a
+// box with one defect added at a time (only the keys the defect changes are listed).
+TEST(Validate, IndependentCountOfKnownMeshes) {
+  const std::string box_counts =
+      "edges=18 components=1 genus=0 open_edges=0 non_manifold_edges=0 non_manifold_vertices=0 "
+      "inconsistent_orientation=0 duplicate_triangles=0 zero_area_triangles=0 collapsed_triangles=0 "
+      "needle_triangles=0 unused_vertices=0 duplicate_vertices=0";
+  const auto expect_counts = [&](const TriMesh& m, const std::string& changed, const char* what) {
+    std::map<std::string, std::string> want = parse_counts(box_counts);
+    for (const auto& [k, v] : parse_counts(changed)) want[k] = v;
+    EXPECT_EQ(independent_counts(m), want) << what;
+  };
+  expect_counts(test::make_box(), "", "box");
+  const auto box_plus = [](const std::vector<Vec3>& extra, const std::vector<Triangle>& tris) {
+    TriMesh m = test::make_box();
+    m.vertices.insert(m.vertices.end(), extra.begin(), extra.end());
+    for (const Triangle& t : tris) m.add_triangle(t[0], t[1], t[2], 0, 0);
+    return m;
+  };
+  TriMesh corner = box_plus({}, {});  // a second box whose corner 8 is the first's corner 7
+  const TriMesh other = test::make_box({1, 1, 1}, {3, 3, 3});
+  corner.vertices.insert(corner.vertices.end(), other.vertices.begin(), other.vertices.end());
+  for (const Triangle& t : other.triangles) corner.add_triangle(t[0] + 8, t[1] + 8, t[2] + 8, 0, 0);
+  expect_counts(corner, "edges=36 components=2 genus=- non_manifold_vertices=1 duplicate_vertices=1", "pinched corner");
+  TriMesh flipped = test::make_box();
+  std::swap(flipped.triangles[4][1], flipped.triangles[4][2]);
+  expect_counts(flipped, "genus=- inconsistent_orientation=3", "one triangle flipped");
+  const Triangle t3 = test::make_box().triangles[3];
+  // A copy of a triangle: its three edges get three triangles each, and each of its corners
+  // three fans (the rest of the corner's triangles, the triangle, its copy).
+  expect_counts(box_plus({}, {{t3[1], t3[2], t3[0]}}),
+                "genus=- duplicate_triangles=1 non_manifold_edges=3 non_manifold_vertices=3", "a duplicate");
+  expect_counts(box_plus({}, {{1, 1, 2}}), "collapsed_triangles=1", "a collapsed triangle");
+  expect_counts(box_plus({{-1, -1, -1}}, {}), "unused_vertices=1 duplicate_vertices=1", "an unused copy of vertex 0");
+  expect_counts(box_plus({{5, 5, 5}, {6, 6, 6}, {8, 8, 8}}, {{8, 9, 10}}),
+                "edges=21 components=2 genus=- open_edges=3 zero_area_triangles=1", "a separate sliver");
+  expect_counts(box_plus({{0, 0, 5}, {1, 0, 5}, {0.5, 1e-6, 5}}, {{8, 9, 10}}),
+                "edges=21 components=2 genus=- open_edges=3 needle_triangles=1", "a separate needle");
+  // Coordinates whose differences doubles cannot hold exactly: collinear, and not.
+  expect_counts(box_plus({{0.1, 0.1, 5}, {0.2, 0.2, 5}, {0.3, 0.3, 5}}, {{8, 9, 10}}),
+                "edges=21 components=2 genus=- open_edges=3 zero_area_triangles=1", "collinear at 0.1 steps");
+  expect_counts(box_plus({{0.1, 0.1, 5}, {0.2, 0.2, 5}, {0.3, std::nextafter(0.3, 1.0), 5}}, {{8, 9, 10}}),
+                "edges=21 components=2 genus=- open_edges=3 needle_triangles=1", "one ulp off the line");
 }
 
 // Duplicate vertices (indexed formats): every vertex with a lower-numbered vertex at the same
