@@ -12,6 +12,7 @@
 #include <mutex>
 #include <numeric>
 #include <optional>
+#include <span>
 
 #include "frep/error.hpp"
 #include "frep/mesh/bvh.hpp"
@@ -243,44 +244,38 @@ std::size_t separate_touching(TriMesh& m, double gap) {
     }
     i = j;
   }
-  // Fans at every vertex: its faces linked through their paired edges at it.
+  // Fans at every vertex: its faces linked through their paired edges at it. The topology is
+  // read before any corner changes: a face keeps its index, and only v's corners are replaced.
   const std::size_t nv = m.vertices.size();
-  std::vector<std::uint32_t> start(nv + 1, 0), faces(3 * nt);
-  for (const Triangle& t : m.triangles)
-    for (std::uint32_t v : t) ++start[v + 1];
-  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  {
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::uint32_t f = 0; f < nt; ++f)
-      for (std::uint32_t v : m.triangles[f]) faces[fill[v]++] = f;
-  }
+  const MeshTopology topo(m);
   std::size_t split = 0;
   std::vector<std::uint32_t> parent;
   for (std::uint32_t v = 0; v < nv; ++v) {
-    const std::uint32_t b = start[v], e = start[v + 1];
-    if (e - b < 2) continue;
-    parent.resize(e - b);
+    const std::span<const std::uint32_t> faces = topo.vertex_faces(v);
+    const auto n = static_cast<std::uint32_t>(faces.size());
+    if (n < 2) continue;
+    parent.resize(n);
     std::iota(parent.begin(), parent.end(), 0u);
     const auto find = [&](std::uint32_t x) {
       while (parent[x] != x) x = parent[x] = parent[parent[x]];
       return x;
     };
     const auto local = [&](std::uint32_t f) {
-      return static_cast<std::uint32_t>(std::lower_bound(faces.begin() + b, faces.begin() + e, f) - (faces.begin() + b));
+      return static_cast<std::uint32_t>(std::lower_bound(faces.begin(), faces.end(), f) - faces.begin());
     };
-    for (std::uint32_t i = b; i < e; ++i) {
+    for (std::uint32_t i = 0; i < n; ++i) {
       const std::uint32_t f = faces[i];
       const Triangle& t = m.triangles[f];
       for (std::uint8_t k = 0; k < 3; ++k) {
         if (t[k] != v && t[(k + 1) % 3] != v) continue;  // only the two edges at v
         const std::uint32_t g = partner[3 * f + k];
         if (g == kNone) continue;
-        const std::uint32_t x = find(i - b), y = find(local(g));
+        const std::uint32_t x = find(i), y = find(local(g));
         if (x != y) parent[std::max(x, y)] = std::min(x, y);
       }
     }
     std::vector<std::uint32_t> roots;
-    for (std::uint32_t i = 0; i < e - b; ++i)
+    for (std::uint32_t i = 0; i < n; ++i)
       if (find(i) == i) roots.push_back(i);
     if (roots.size() < 2) continue;
     ++split;
@@ -288,8 +283,8 @@ std::size_t separate_touching(TriMesh& m, double gap) {
     for (std::size_t r = 0; r < roots.size(); ++r) {
       // The fan's outward direction: its area-weighted normal.
       Vec3 normal{0, 0, 0};
-      for (std::uint32_t i = 0; i < e - b; ++i)
-        if (find(i) == roots[r]) normal = normal + face_cross(m, m.triangles[faces[b + i]]);
+      for (std::uint32_t i = 0; i < n; ++i)
+        if (find(i) == roots[r]) normal = normal + face_cross(m, m.triangles[faces[i]]);
       const double len = length(normal);
       const Vec3 moved = len > 0 ? at - normal * (gap / len) : at;
       std::uint32_t copy = v;
@@ -299,9 +294,9 @@ std::size_t separate_touching(TriMesh& m, double gap) {
       } else {
         m.vertices[v] = moved;
       }
-      for (std::uint32_t i = 0; i < e - b; ++i) {
+      for (std::uint32_t i = 0; i < n; ++i) {
         if (find(i) != roots[r]) continue;
-        for (std::uint32_t& c : m.triangles[faces[b + i]])
+        for (std::uint32_t& c : m.triangles[faces[i]])
           if (c == v) c = copy;
       }
     }
@@ -525,16 +520,7 @@ std::size_t settle_float_points(TriMesh& m, const std::vector<Vec3>& input_point
     return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : a.z < b.z);
   };
   std::sort(fixed.begin(), fixed.end(), less);
-  const std::size_t nt = m.triangles.size(), nv = m.vertices.size();
-  std::vector<std::uint32_t> start(nv + 1, 0), faces(3 * nt);
-  for (const Triangle& t : m.triangles)
-    for (std::uint32_t v : t) ++start[v + 1];
-  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  {
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::uint32_t f = 0; f < nt; ++f)
-      for (std::uint32_t v : m.triangles[f]) faces[fill[v]++] = f;
-  }
+  const MeshTopology topo(m);  // the faces at each vertex (positions move, corners do not)
   const auto bad_contacts = [&](std::uint32_t f, const TriangleBvh& bvh) {
     const Triangle& ta = m.triangles[f];
     Box3 box;
@@ -578,7 +564,7 @@ std::size_t settle_float_points(TriMesh& m, const std::vector<Vec3>& input_point
       const Vec3 home = m.vertices[v];
       const auto score = [&] {
         std::size_t bad = 0;
-        for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) bad += bad_contacts(faces[i], bvh);
+        for (std::uint32_t f : topo.vertex_faces(v)) bad += bad_contacts(f, bvh);
         return bad;
       };
       std::size_t best = score();
