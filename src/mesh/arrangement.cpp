@@ -14,6 +14,7 @@
 #include <unordered_set>
 
 #include "frep/error.hpp"
+#include "util/union_find.hpp"
 
 namespace frep::arrangement {
 namespace {
@@ -49,9 +50,7 @@ std::uint64_t pair_key(std::uint32_t a, std::uint32_t b) {
 class Arranger {
  public:
   Arranger(const TriMesh& mesh, const MeshTopology& topo, const TriangleBvh& bvh, const std::function<void()>& poll)
-      : m_(mesh), topo_(topo), bvh_(bvh), poll_(poll), group_(mesh.triangles.size()) {
-    for (std::uint32_t t = 0; t < group_.size(); ++t) group_[t] = t;
-  }
+      : m_(mesh), topo_(topo), bvh_(bvh), poll_(poll), group_(mesh.triangles.size()) {}
 
   Arrangement run(const std::vector<std::uint32_t>& seeds) {
     for (std::uint32_t t : seeds) involve(t);
@@ -78,7 +77,7 @@ class Arranger {
   std::unordered_set<std::uint64_t> pairs_done_;
   std::unordered_set<std::uint64_t> has_point_;        // (triangle, point) already in its cuts
   std::unordered_map<std::uint32_t, std::size_t> edge_checked_;  // per triangle: cuts points tested for edges
-  std::vector<std::uint32_t> group_;                   // union-find over coplanar overlapping triangles
+  UnionFind group_;                                    // coplanar overlapping triangles
   std::map<P3, std::uint32_t, Less3> ids_;             // every point met so far
   std::vector<P3> new_points_;                         // ids from m_.vertices.size() on
   std::size_t polls_ = 0;
@@ -110,14 +109,6 @@ class Arranger {
   }
   void add_point(std::uint32_t t, std::uint32_t p) {
     if (has_point_.insert((std::uint64_t(t) << 32) | p).second) cuts_[t].points.push_back(p);
-  }
-  std::uint32_t find(std::uint32_t t) {
-    while (group_[t] != t) t = group_[t] = group_[group_[t]];
-    return t;
-  }
-  void unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a), b = find(b);
-    if (a != b) group_[std::max(a, b)] = std::min(a, b);
   }
   void poll() {
     if (++polls_ % 256 == 0 && poll_) poll_();
@@ -165,7 +156,7 @@ class Arranger {
       bool trivial = !flat;
       for (std::uint32_t v : ids) trivial = trivial && shared(v);
       if (trivial) continue;
-      if (flat) unite(a, b);
+      if (flat) group_.unite(a, b);
       for (std::uint32_t t : {a, b}) {
         involve(t);
         for (std::uint32_t v : ids) add_point(t, v);
@@ -213,7 +204,7 @@ class Arranger {
   Arrangement assemble() {
     Arrangement out;
     std::map<std::uint32_t, std::vector<std::uint32_t>> groups;
-    for (const auto& [t, c] : cuts_) groups[find(t)].push_back(t);
+    for (const auto& [t, c] : cuts_) groups[group_.find(t)].push_back(t);
     out.cut_triangles = cuts_.size();
     std::vector<char> cut(m_.triangles.size(), 0);
     for (const auto& [t, c] : cuts_) cut[t] = 1;

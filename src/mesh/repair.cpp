@@ -25,6 +25,7 @@
 #include "mesh/fill_holes.hpp"
 #include "mesh/predicates.hpp"
 #include "mesh/tri_tri.hpp"
+#include "util/union_find.hpp"
 
 namespace frep {
 namespace {
@@ -249,17 +250,13 @@ std::size_t separate_touching(TriMesh& m, double gap) {
   const std::size_t nv = m.vertices.size();
   const MeshTopology topo(m);
   std::size_t split = 0;
-  std::vector<std::uint32_t> parent;
+  UnionFind fans;
   for (std::uint32_t v = 0; v < nv; ++v) {
     const std::span<const std::uint32_t> faces = topo.vertex_faces(v);
     const auto n = static_cast<std::uint32_t>(faces.size());
     if (n < 2) continue;
-    parent.resize(n);
-    std::iota(parent.begin(), parent.end(), 0u);
-    const auto find = [&](std::uint32_t x) {
-      while (parent[x] != x) x = parent[x] = parent[parent[x]];
-      return x;
-    };
+    fans.reset(n);
+    const auto find = [&](std::uint32_t x) { return fans.find(x); };
     const auto local = [&](std::uint32_t f) {
       return static_cast<std::uint32_t>(std::lower_bound(faces.begin(), faces.end(), f) - faces.begin());
     };
@@ -270,8 +267,7 @@ std::size_t separate_touching(TriMesh& m, double gap) {
         if (t[k] != v && t[(k + 1) % 3] != v) continue;  // only the two edges at v
         const std::uint32_t g = partner[3 * f + k];
         if (g == kNone) continue;
-        const std::uint32_t x = find(i), y = find(local(g));
-        if (x != y) parent[std::max(x, y)] = std::min(x, y);
+        fans.unite(i, local(g));
       }
     }
     std::vector<std::uint32_t> roots;

@@ -14,6 +14,7 @@
 #include "frep/mesh/weld.hpp"
 #include "frep/util/json.hpp"
 #include "frep/util/thread_pool.hpp"
+#include "util/union_find.hpp"
 #include "predicates.hpp"
 #include "tri_tri.hpp"
 
@@ -46,28 +47,6 @@ const KindInfo kKinds[kDefectKinds] = {
     {"duplicate_vertices", "duplicate vertices (same position, merged)", false},
 };
 
-// Union-find whose roots are the smallest members.
-class UnionFind {
- public:
-  explicit UnionFind(std::vector<std::uint32_t> parent) : p_(std::move(parent)) {}
-  std::uint32_t find(std::uint32_t i) {
-    while (p_[i] != i) i = p_[i] = p_[p_[i]];
-    return i;
-  }
-  void unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a), b = find(b);
-    if (a != b) p_[std::max(a, b)] = std::min(a, b);
-  }
-  // Every member's root, in the parents' own storage (a parent is never larger than its
-  // child, so one increasing pass suffices).
-  std::vector<std::uint32_t> roots() && {
-    for (std::uint32_t& p : p_) p = p_[p];
-    return std::move(p_);
-  }
-
- private:
-  std::vector<std::uint32_t> p_;
-};
 
 // An edge-connected piece of the surface, as the shell checks see it.
 struct Shell {
@@ -459,9 +438,7 @@ void Validation::find_planar_regions() {
       }
     }
   });
-  std::vector<std::uint32_t> parent(nt);
-  for (std::uint32_t t = 0; t < nt; ++t) parent[t] = t;
-  UnionFind regions(std::move(parent));  // roots are the smallest members, whatever the order
+  UnionFind regions(nt);  // roots are the smallest members, whatever the order
   for (const auto& list : joined)
     for (const auto& [t, g] : list) regions.unite(t, g);
   plane_ = std::move(regions).roots();  // flat triangles are regions of their own, and never in a pair
