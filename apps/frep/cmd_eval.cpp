@@ -9,9 +9,9 @@
 #include "input.hpp"
 #include "frep/error.hpp"
 #include "frep/eval/point_cloud.hpp"
-#include "frep/io/atomic_file.hpp"
 #include "frep/io/load.hpp"
 #include "frep/io/points.hpp"
+#include "frep/util/atomic_file.hpp"
 
 namespace frep::cli {
 

@@ -7,8 +7,8 @@
 #include "frep/convert/convert.hpp"
 #include "frep/convert/make_solid.hpp"
 #include "frep/error.hpp"
-#include "frep/io/atomic_file.hpp"
 #include "frep/mesh/mesh_io.hpp"
+#include "frep/util/atomic_file.hpp"
 
 namespace frep::cli {
 

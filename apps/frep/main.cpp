@@ -2,7 +2,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
-#include "frep/io/atomic_file.hpp"
+#include "frep/util/atomic_file.hpp"
 #include "run.hpp"
 
 int main(int argc, char** argv) {

@@ -29,7 +29,7 @@
 #include "frep/eval/point_cloud.hpp"
 #include "frep/eval/subdivision.hpp"
 
-#include "frep/io/atomic_file.hpp"
+#include "frep/util/atomic_file.hpp"
 #include "frep/io/frep_file.hpp"
 #include "frep/io/load.hpp"
 #include "frep/io/npy.hpp"

@@ -20,10 +20,10 @@
 #include <thread>
 
 #include "frep/error.hpp"
-#include "frep/io/atomic_file.hpp"
-#include "io/parse_number.hpp"
-#include "io/text_scan.hpp"
+#include "frep/util/atomic_file.hpp"
 #include "mesh/predicates.hpp"
+#include "util/parse_number.hpp"
+#include "util/text_scan.hpp"
 
 namespace frep::convert_detail {
 namespace {

@@ -12,7 +12,7 @@
 
 #include "frep/error.hpp"
 #include "frep/expr/model.hpp"
-#include "io/text_scan.hpp"
+#include "util/text_scan.hpp"
 
 namespace frep::detail {
 

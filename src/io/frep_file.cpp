@@ -8,8 +8,8 @@
 #include <cstring>
 
 #include "frep/error.hpp"
-#include "frep/io/atomic_file.hpp"
 #include "frep/expr/copy.hpp"
+#include "frep/util/atomic_file.hpp"
 
 namespace frep {
 namespace {

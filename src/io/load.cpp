@@ -5,10 +5,10 @@
 #include <string_view>
 
 #include "frep/error.hpp"
-#include "frep/io/atomic_file.hpp"
 #include "frep/io/frep_file.hpp"
 #include "frep/io/rhai.hpp"
 #include "frep/io/vm.hpp"
+#include "frep/util/atomic_file.hpp"
 
 namespace frep {
 namespace {

@@ -8,7 +8,7 @@
 #include <ostream>
 
 #include "frep/error.hpp"
-#include "frep/io/atomic_file.hpp"
+#include "frep/util/atomic_file.hpp"
 
 namespace frep {
 namespace {

@@ -6,8 +6,8 @@
 #include <iterator>
 
 #include "frep/error.hpp"
-#include "frep/io/atomic_file.hpp"
-#include "io/parse_number.hpp"
+#include "frep/util/atomic_file.hpp"
+#include "util/parse_number.hpp"
 
 namespace frep {
 namespace {

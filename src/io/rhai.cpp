@@ -2,7 +2,7 @@
 // parser, interpreter, builtins and shape library live in the other rhai_*.cpp files.
 #include "frep/io/rhai.hpp"
 
-#include "frep/io/atomic_file.hpp"
+#include "frep/util/atomic_file.hpp"
 #include "io/rhai_interp.hpp"
 #include "io/field_info.hpp"
 

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "io/parse_number.hpp"
+#include "util/parse_number.hpp"
 
 namespace frep::rhai {
 

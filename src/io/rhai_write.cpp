@@ -19,8 +19,8 @@
 #include <string_view>
 #include <vector>
 
-#include "frep/io/atomic_file.hpp"
 #include "frep/io/rhai.hpp"
+#include "frep/util/atomic_file.hpp"
 #include "io/field_info.hpp"
 #include "frep/expr/copy.hpp"
 

@@ -4,7 +4,7 @@
 #include "frep/io/frep_file.hpp"
 #include "frep/io/rhai.hpp"
 #include "frep/io/vm.hpp"
-#include "io/text_scan.hpp"
+#include "util/text_scan.hpp"
 
 namespace frep {
 namespace {

@@ -8,11 +8,11 @@
 #include <vector>
 
 #include "frep/error.hpp"
-#include "frep/io/atomic_file.hpp"
-#include "io/parse_number.hpp"
-#include "io/field_info.hpp"
-#include "io/text_scan.hpp"
 #include "frep/expr/copy.hpp"
+#include "frep/util/atomic_file.hpp"
+#include "io/field_info.hpp"
+#include "util/parse_number.hpp"
+#include "util/text_scan.hpp"
 
 namespace frep {
 namespace {

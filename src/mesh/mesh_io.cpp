@@ -6,8 +6,8 @@
 #include <filesystem>
 
 #include "frep/error.hpp"
-#include "frep/io/atomic_file.hpp"
-#include "io/text_scan.hpp"
+#include "frep/util/atomic_file.hpp"
+#include "util/text_scan.hpp"
 
 namespace frep {
 using namespace detail;

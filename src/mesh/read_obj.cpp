@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "frep/mesh/mesh_io.hpp"
-#include "io/text_scan.hpp"
+#include "util/text_scan.hpp"
 
 namespace frep {
 namespace {

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "frep/mesh/mesh_io.hpp"
-#include "io/text_scan.hpp"
+#include "util/text_scan.hpp"
 
 namespace frep {
 namespace {

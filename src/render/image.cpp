@@ -11,7 +11,7 @@
 #include <string>
 
 #include "frep/error.hpp"
-#include "frep/io/atomic_file.hpp"
+#include "frep/util/atomic_file.hpp"
 
 namespace frep {
 namespace {

@@ -1,4 +1,4 @@
-#include "frep/io/atomic_file.hpp"
+#include "frep/util/atomic_file.hpp"
 
 #include <fcntl.h>
 #include <sys/syscall.h>

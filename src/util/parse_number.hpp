@@ -1,4 +1,5 @@
-// One number parser for every text reader (.vm, point lists, mesh formats).
+// One number parser for every text reader (.vm, point lists, mesh formats, Rhai, TetGen's output).
+// Private to the library (not installed), like util/text_scan.hpp.
 #pragma once
 
 #include <charconv>

@@ -1,9 +1,10 @@
-// Private lexing helpers shared by the text readers (.vm, points, mesh formats): a bounds-checked
-// cursor over text with line tracking, number parsing that never reads past the end, tokens
-// shown safely in messages, and little-endian loads.
+// Lexing helpers shared by the library's text readers (.vm, points, mesh formats, TetGen's
+// output): a bounds-checked cursor over text with line tracking, number parsing that never reads
+// past the end, tokens shown safely in messages, and little-endian loads. Private to the library
+// (not installed): util/ is the one module whose private headers the others may include.
 #pragma once
 
-#include "io/parse_number.hpp"
+#include "util/parse_number.hpp"
 
 #include <charconv>
 #include <cmath>

@@ -7,8 +7,8 @@
 #include <random>
 
 #include "frep/error.hpp"
-#include "frep/io/atomic_file.hpp"
 #include "frep/io/rhai.hpp"
+#include "frep/util/atomic_file.hpp"
 
 namespace frep {
 namespace {

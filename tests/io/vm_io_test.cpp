@@ -10,7 +10,6 @@
 #include <unistd.h>
 
 #include "frep/error.hpp"
-#include "frep/io/atomic_file.hpp"
 #include "frep/expr/expr.hpp"
 #include "frep/io/load.hpp"
 #include "frep/io/rhai.hpp"
@@ -18,6 +17,7 @@
 #include "frep/eval/evaluators.hpp"
 #include "frep/io/save.hpp"
 #include "frep/io/vm.hpp"
+#include "frep/util/atomic_file.hpp"
 #include "test_util.hpp"
 
 namespace frep {

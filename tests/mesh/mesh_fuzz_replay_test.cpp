@@ -7,9 +7,9 @@
 #include <random>
 
 #include "frep/error.hpp"
-#include "frep/io/atomic_file.hpp"
 #include "frep/mesh/mesh_io.hpp"
 #include "frep/mesh/weld.hpp"
+#include "frep/util/atomic_file.hpp"
 
 namespace frep {
 namespace {
