@@ -65,10 +65,8 @@
 #include "frep/sample/points.hpp"
 
 #include "frep/contour/bounds.hpp"
-#include "frep/contour/cell_topology.hpp"
 #include "frep/contour/mesh_options.hpp"
 #include "frep/contour/mesher.hpp"
-#include "frep/contour/qef.hpp"
 #include "frep/contour/snap.hpp"
 
 #include "frep/export/c_source.hpp"

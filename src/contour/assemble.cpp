@@ -24,7 +24,7 @@
 #include <array>
 #include <cmath>
 
-#include "frep/contour/cell_topology.hpp"
+#include "contour/cell_topology.hpp"
 #include "frep/error.hpp"
 #include "mesh/tri_tri.hpp"
 

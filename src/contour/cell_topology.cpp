@@ -1,6 +1,6 @@
 // The per-cell topology table: segments per face, cycles, and cycles split so that no piece
 // meets a face twice (see cell_topology.hpp for why).
-#include "frep/contour/cell_topology.hpp"
+#include "contour/cell_topology.hpp"
 
 #include <array>
 #include <vector>

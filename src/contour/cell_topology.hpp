@@ -15,6 +15,8 @@
 //
 // Numbering: corner c = x + 2y + 4z (bits). Edge e = 4 * axis + u + 2 * v, where (u, v) are the
 // edge's coordinates along the two other axes in increasing order. Face f = 2 * axis + side.
+//
+// Private to the mesher (not installed).
 #pragma once
 
 #include <array>

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "frep/contour/cell_topology.hpp"
-#include "frep/contour/qef.hpp"
+#include "contour/cell_topology.hpp"
+#include "contour/qef.hpp"
 #include "frep/error.hpp"
 
 namespace frep::contour {

@@ -1,6 +1,6 @@
 // QEF accumulation and minimization (truncated pseudo-inverse about the mass point) with a small
 // Jacobi eigen-solver for the 3x3 normal matrix.
-#include "frep/contour/qef.hpp"
+#include "contour/qef.hpp"
 
 #include <algorithm>
 #include <cmath>

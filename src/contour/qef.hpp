@@ -2,6 +2,8 @@
 // the tangent planes at the surface crossings of a cell, minimized with a bias towards the mass
 // point (the crossings' centroid), so that flat pieces give a point on the plane, edges a point
 // on the edge line and corners the corner, and nearly parallel normals cannot throw the point far.
+//
+// Private to the mesher (not installed).
 #pragma once
 
 #include "frep/math/vec.hpp"

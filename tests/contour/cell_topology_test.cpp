@@ -9,7 +9,7 @@
 #include <set>
 #include <vector>
 
-#include "frep/contour/cell_topology.hpp"
+#include "contour/cell_topology.hpp"
 
 namespace frep {
 namespace {

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "frep/contour/qef.hpp"
+#include "contour/qef.hpp"
 
 namespace frep {
 namespace {

@@ -4,7 +4,7 @@
 // interval arithmetic (empty, full or ambiguous), simplifying the expression on the way down;
 // ambiguous leaf boxes are sampled at their cell corners. Every cell edge whose ends differ in
 // sign (inside: f < 0; NaN counts as outside) gets one polygon joining the dual vertices of the
-// four cells around it, with one vertex per piece of surface in a cell (see cell_topology.hpp),
+// four cells around it, with one vertex per piece of surface in a cell (docs/meshing.md, step 4),
 // so the mesh is closed, manifold and oriented outward by construction, whatever the field.
 // Vertices: dual contouring puts them at QEF minimizers of the edge crossings (found by root
 // finding) and their normals, inside their cells; the snap method starts at the voxel corners
