@@ -10,6 +10,6 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "frep 0.1.0");
   frep::cli::register_commands(app);
-  frep::remove_temporary_files_on_signals();
+  frep::install_interrupt_cleanup();  // Ctrl-C leaves no temporary file, scratch directory or TetGen behind
   return frep::cli::run(app, argc, argv);
 }

@@ -22,6 +22,7 @@
 #include "frep/error.hpp"
 #include "frep/util/atomic_file.hpp"
 #include "mesh/predicates.hpp"
+#include "util/interrupt_cleanup.hpp"
 #include "util/parse_number.hpp"
 #include "util/text_scan.hpp"
 
@@ -66,11 +67,13 @@ void run_tetgen(const std::string& program, const std::vector<std::string>& args
   argv.push_back(const_cast<char*>(exe.c_str()));
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
-  // Signals that clean up (see remove_temporary_files_on_signals) wait until the child's group is
-  // registered: a Ctrl-C right after the fork would otherwise leave it running.
+  // With the program's cleanup handlers (install_interrupt_cleanup), the signals they handle wait
+  // in this thread until the child's group is registered: a Ctrl-C right after the fork would
+  // otherwise leave it running. Without them the set is empty: nothing is blocked.
   sigset_t cleanup_signals, before;
   sigemptyset(&cleanup_signals);
-  for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&cleanup_signals, sig);
+  if (interrupt_cleanup_installed())
+    for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&cleanup_signals, sig);
   ::pthread_sigmask(SIG_BLOCK, &cleanup_signals, &before);
   const pid_t parent = ::getpid();
   const pid_t pid = ::fork();

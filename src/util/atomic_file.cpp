@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "frep/error.hpp"
+#include "util/interrupt_cleanup.hpp"
 
 namespace frep {
 
@@ -30,6 +31,9 @@ std::atomic<bool> g_writing{false};
 char g_scratch[4096];
 std::atomic<bool> g_has_scratch{false};
 std::atomic<int> g_child_group{0};
+
+// Whether the program asked for the handlers (install_interrupt_cleanup).
+std::atomic<bool> g_installed{false};
 
 // Removes the files of a directory with system calls only (async-signal-safe: no allocation, no
 // locks). Removing while reading may skip entries on some file systems: callers read again.
@@ -78,7 +82,8 @@ std::filesystem::path resolve_links(const std::string& path) {
 
 }  // namespace
 
-void remove_temporary_files_on_signals() {
+void install_interrupt_cleanup() {
+  g_installed = true;  // first: a fork that sees it holds the signals back, needed or not
   for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) {
     // A signal ignored from the start (nohup, a shell's background job) stays ignored.
     struct sigaction old {};
@@ -86,6 +91,8 @@ void remove_temporary_files_on_signals() {
     std::signal(sig, remove_and_die);
   }
 }
+
+bool interrupt_cleanup_installed() { return g_installed.load(); }
 
 void set_signal_cleanup(const std::string& scratch_dir, int child_group) {
   g_has_scratch = false;

@@ -17,6 +17,12 @@
 //   Tetrahedra: TetGen tetrahedralizes the solid preserving its surface (the separate `tetgen`
 //     program, run as a child process: it is AGPL and crashes on bad input); the value is negated
 //     inside the union of the tetrahedra.
+// Running TetGen: the calling thread forks and execs it in a process group of its own, in a
+// scratch directory under $TMPDIR (output to a log file there, no pipes), waits for exactly that
+// child (polling, up to tetgen_timeout; then the group is killed) and reaps it. No signal handler
+// is installed and no signal blocked unless the program called install_interrupt_cleanup()
+// (frep/util/atomic_file.hpp). TetGen inherits stdin and descriptors not marked close-on-exec; a
+// program that ignores SIGCHLD or reaps every child itself makes such conversions fail.
 // See docs/convert.md for the construction, its cost per triangle and the numerics.
 #pragma once
 

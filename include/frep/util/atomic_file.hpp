@@ -1,5 +1,10 @@
 // Writes output files atomically: a temporary file beside the target, then rename, so a failure
-// never leaves a half-written file under the requested name.
+// never leaves a half-written file under the requested name. Also reads whole files.
+//
+// The library has no process-wide side effects of its own: it installs no signal handler and
+// blocks no signal. A program that wants an interrupted run (Ctrl-C) to leave no temporary file,
+// scratch directory or child process behind asks for it with install_interrupt_cleanup(), as the
+// frep command does.
 #pragma once
 
 #include <functional>
@@ -16,15 +21,15 @@ namespace frep {
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& produce);
 void write_file_atomically(const std::string& path, std::string_view bytes);
 
-// Makes SIGINT, SIGTERM and SIGHUP remove the temporary file being written before the process
-// dies as the signal would (for programs: an interrupted conversion leaves no 150 MB leftover),
-// and what set_signal_cleanup registered.
-void remove_temporary_files_on_signals();
-
-// Registers a scratch directory (its files, not subdirectories, are removed, then it) and a child
-// process group (killed) for the signal handler above; one of each at a time. An empty path or
-// a group of 0 clears them.
-void set_signal_cleanup(const std::string& scratch_dir, int child_group);
+// Opt-in, for programs (never called by the library itself): installs handlers for SIGINT,
+// SIGTERM, SIGHUP and SIGQUIT that remove the temporary file being written (so an interrupted
+// conversion leaves no 150 MB leftover), kill the TetGen child process group and remove its
+// scratch directory if a conversion is running one, then restore the default action and raise
+// the signal again, so that the process dies as the signal would have made it. A signal that is
+// ignored when this is called (nohup, a shell's background job) stays ignored. The handlers
+// replace any the program had for these signals; call it once, early in main. Until it is
+// called, the TetGen runner also blocks no signals around its fork (frep/convert/convert.hpp).
+void install_interrupt_cleanup();
 
 // Checks, before long work, that `path` could be written: its directory exists and is writable.
 // Throws InputError naming `path` otherwise.
