@@ -349,13 +349,19 @@ TEST(MeshShapes, FacesOnGridPlanesMeshOnAShiftedGrid) {
     EXPECT_EQ(r.components, 1u);
     // Snapping rounds sharp edges off by part of a cell: volumes are checked on dual contouring.
     const bool dc = method == MeshMethod::DualContouring;
-    if (dc) EXPECT_NEAR(r.volume, 1.0, 1e-3);
+    if (dc) {
+      EXPECT_NEAR(r.volume, 1.0, 1e-3);
+    }
     m = mesh_solid(plate, options(16, Box3{{-1, -1, -1}, {1, 1, 1}}, method), "plate one cell thick", &st);
     EXPECT_TRUE(st.shifted);
     EXPECT_EQ(validate_mesh(m).components, 1u);
-    if (dc) EXPECT_NEAR(validate_mesh(m).volume, 0.125, 1e-3);
+    if (dc) {
+      EXPECT_NEAR(validate_mesh(m).volume, 0.125, 1e-3);
+    }
     m = mesh_solid(slot, options(16, Box3{{-1, -1, -1}, {1, 1, 1}}, method), "flush pocket", &st);
-    if (dc) EXPECT_NEAR(validate_mesh(m).volume, 1 - 0.0625, 1e-3);
+    if (dc) {
+      EXPECT_NEAR(validate_mesh(m).volume, 1 - 0.0625, 1e-3);
+    }
     if (dc) {
       // Still exact: every vertex on the faces.
       for (const Vec3& v : m.vertices)
