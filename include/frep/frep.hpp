@@ -5,6 +5,7 @@
 #include "frep/math/vec.hpp"
 #include "frep/math/morton.hpp"
 #include "frep/math/affine.hpp"
+#include "frep/math/predicates.hpp"
 #include "frep/util/large_allocator.hpp"
 #include "frep/util/memory_budget.hpp"
 #include "frep/util/thread_pool.hpp"
@@ -47,6 +48,7 @@
 #include "frep/mesh/mesh_distance.hpp"
 #include "frep/mesh/mesh_field.hpp"
 #include "frep/mesh/mesh_pair.hpp"
+#include "frep/mesh/tri_tri.hpp"
 #include "frep/mesh/coordinate_range.hpp"
 #include "frep/mesh/repair.hpp"
 

@@ -26,7 +26,7 @@
 
 #include "contour/cell_topology.hpp"
 #include "frep/error.hpp"
-#include "mesh/tri_tri.hpp"
+#include "frep/mesh/tri_tri.hpp"
 
 namespace frep::contour {
 namespace {

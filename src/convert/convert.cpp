@@ -13,11 +13,11 @@
 #include "convert/tetgen.hpp"
 #include "frep/error.hpp"
 #include "frep/expr/expr.hpp"
+#include "frep/math/predicates.hpp"
 #include "frep/mesh/coordinate_range.hpp"
 #include "frep/mesh/topology.hpp"
 #include "frep/mesh/validate.hpp"
 #include "frep/mesh/weld.hpp"
-#include "mesh/predicates.hpp"
 
 namespace frep {
 namespace {

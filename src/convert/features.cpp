@@ -8,7 +8,7 @@
 #include <numeric>
 
 #include "frep/error.hpp"
-#include "mesh/predicates.hpp"
+#include "frep/math/predicates.hpp"
 
 namespace frep::convert_detail {
 namespace {

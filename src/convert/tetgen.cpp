@@ -20,8 +20,8 @@
 #include <thread>
 
 #include "frep/error.hpp"
+#include "frep/math/predicates.hpp"
 #include "frep/util/atomic_file.hpp"
-#include "mesh/predicates.hpp"
 #include "util/interrupt_cleanup.hpp"
 #include "util/parse_number.hpp"
 #include "util/text_scan.hpp"

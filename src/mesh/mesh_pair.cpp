@@ -18,11 +18,11 @@
 #include <utility>
 
 #include "frep/error.hpp"
+#include "frep/math/predicates.hpp"
 #include "frep/mesh/bvh.hpp"
 #include "frep/mesh/topology.hpp"
+#include "frep/mesh/tri_tri.hpp"
 #include "frep/util/thread_pool.hpp"
-#include "mesh/predicates.hpp"
-#include "mesh/tri_tri.hpp"
 
 namespace frep {
 namespace {

@@ -15,16 +15,16 @@
 #include <span>
 
 #include "frep/error.hpp"
+#include "frep/math/predicates.hpp"
 #include "frep/mesh/bvh.hpp"
 #include "frep/mesh/mesh_distance.hpp"
 #include "frep/mesh/topology.hpp"
+#include "frep/mesh/tri_tri.hpp"
 #include "frep/mesh/weld.hpp"
 #include "frep/util/json.hpp"
 #include "frep/util/thread_pool.hpp"
 #include "mesh/arrangement.hpp"
 #include "mesh/fill_holes.hpp"
-#include "mesh/predicates.hpp"
-#include "mesh/tri_tri.hpp"
 #include "util/union_find.hpp"
 
 namespace frep {

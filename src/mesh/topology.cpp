@@ -7,7 +7,7 @@
 #include <numeric>
 
 #include "frep/error.hpp"
-#include "predicates.hpp"
+#include "frep/math/predicates.hpp"
 
 namespace frep {
 

@@ -6,12 +6,12 @@
 // certify a zero: signs known without computing them are not computed (a corner shared with the
 // other triangle, and whatever the caller knows: PlaneHint), and the cheap parts are shared
 // (one float filter per plane for its three corner tests, one projection per coplanar pair).
-#include "tri_tri.hpp"
+#include "frep/mesh/tri_tri.hpp"
 
 #include <cmath>
 #include <utility>
 
-#include "predicates.hpp"
+#include "frep/math/predicates.hpp"
 
 namespace frep {
 namespace {

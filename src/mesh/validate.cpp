@@ -8,15 +8,15 @@
 #include <optional>
 
 #include "frep/error.hpp"
+#include "frep/math/predicates.hpp"
 #include "frep/mesh/bvh.hpp"
 #include "frep/mesh/mesh_distance.hpp"
 #include "frep/mesh/topology.hpp"
+#include "frep/mesh/tri_tri.hpp"
 #include "frep/mesh/weld.hpp"
 #include "frep/util/json.hpp"
 #include "frep/util/thread_pool.hpp"
 #include "util/union_find.hpp"
-#include "predicates.hpp"
-#include "tri_tri.hpp"
 
 namespace frep {
 namespace {

@@ -10,14 +10,14 @@
 #include <cstring>
 #include <random>
 
+#include "frep/math/predicates.hpp"
 #include "frep/mesh/bvh.hpp"
 #include "frep/mesh/mesh_distance.hpp"
 #include "frep/mesh/mesh_field.hpp"
 #include "frep/mesh/topology.hpp"
+#include "frep/mesh/tri_tri.hpp"
 #include "frep/mesh/validate.hpp"
 #include "frep/mesh/weld.hpp"
-#include "mesh/predicates.hpp"
-#include "mesh/tri_tri.hpp"
 #include "mesh_test_util.hpp"
 
 namespace frep {

@@ -20,8 +20,8 @@
 #include "frep/mesh/mesh_io.hpp"
 #include "frep/mesh/mesh_pair.hpp"
 #include "frep/mesh/topology.hpp"
+#include "frep/mesh/tri_tri.hpp"
 #include "frep/ugf/clearance.hpp"
-#include "mesh/tri_tri.hpp"
 #include "mesh_test_util.hpp"
 
 namespace frep {

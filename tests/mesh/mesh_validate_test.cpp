@@ -13,11 +13,11 @@
 #include <random>
 #include <sstream>
 
+#include "frep/math/predicates.hpp"
 #include "frep/mesh/bvh.hpp"
 #include "frep/mesh/mesh_io.hpp"
+#include "frep/mesh/tri_tri.hpp"
 #include "frep/mesh/validate.hpp"
-#include "mesh/predicates.hpp"
-#include "mesh/tri_tri.hpp"
 #include "mesh_test_util.hpp"
 
 namespace frep {

@@ -4,10 +4,11 @@
 // distances A and B of two apart solids, the minimum over space of A + B is this distance.
 //
 // Yes/no answers are exact for the placed double coordinates: triangle pairs are classified with
-// orientation predicates only (mesh/tri_tri), and nesting is the sign of a surface point in the
-// other mesh's field (pseudonormal or winding number, MeshField). Distances are double-precision
-// closest points between triangles (the segment-segment and vertex-face cases), found by a dual
-// traversal of the two hierarchies that discards node pairs farther apart than the best pair yet.
+// orientation predicates only (frep/mesh/tri_tri.hpp), and nesting is the sign of a surface point
+// in the other mesh's field (pseudonormal or winding number, MeshField). Distances are
+// double-precision closest points between triangles (the segment-segment and vertex-face cases),
+// found by a dual traversal of the two hierarchies that discards node pairs farther apart than the
+// best pair yet.
 #pragma once
 
 #include <cstddef>
@@ -39,7 +40,7 @@ struct MeshPairOptions {
   bool distance = true;          // find the distance and closest points when the surfaces do not meet
 };
 
-// How two triangles meet (frep/mesh/tri_tri's classes for two different meshes).
+// How two triangles meet (tri_tri.hpp's Contact classes, for two different meshes).
 enum class PairContact : std::uint8_t {
   Cross,    // interiors cross: the surfaces pass through each other there
   Overlap,  // coplanar, interiors overlap (faces lying on each other)

@@ -1,5 +1,6 @@
-// Exact classification of how two triangles of a mesh meet, for the self-intersection check.
-// Only orientation predicates are used (no constructed points), so the answer is exact for the
+// Exact classification of how two triangles of a mesh meet: the self-intersection check, repair,
+// two meshes against each other (mesh_pair.hpp) and the mesher's fold test all ask it. Only
+// orientation predicates are used (no constructed points), so the answer is exact for the
 // double coordinates given.
 #pragma once
 

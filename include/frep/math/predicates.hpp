@@ -2,7 +2,8 @@
 // expansion arithmetic (error-free sums and products) when the filter cannot decide. Used
 // wherever a wrong sign would give a wrong answer (self-intersections), not for distances.
 // The filters are inline: the self-intersection test calls them millions of times per mesh, and
-// most calls end there.
+// most calls end there. Public: the mesh checks, repair and the converter decide with them, and a
+// program can too.
 #pragma once
 
 #include <cmath>
@@ -11,7 +12,7 @@
 
 namespace frep::exact {
 
-// The exact stages, for what the filters below leave undecided (predicates.cpp). `permanent` is
+// The exact stages (in the library), for what the filters below leave undecided. `permanent` is
 // the one orient3d_filter computed.
 int orient3d_uncertain(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double permanent);
 int orient2d_uncertain(double ax, double ay, double bx, double by, double cx, double cy);

@@ -6,7 +6,7 @@
 // most); otherwise the differences' roundoff tails are carried along (192 at most). Coordinates
 // outside [2^-200, 2^200] (other than 0), where those products could underflow, take the original
 // general expansion code, so that no answer changes there.
-#include "predicates.hpp"
+#include "frep/math/predicates.hpp"
 
 #include <cmath>
 
