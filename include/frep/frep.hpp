@@ -3,13 +3,11 @@
 
 #include "frep/error.hpp"
 #include "frep/math/vec.hpp"
-#include "frep/math/morton.hpp"
 #include "frep/math/affine.hpp"
 #include "frep/math/predicates.hpp"
 #include "frep/util/large_allocator.hpp"
 #include "frep/util/memory_budget.hpp"
 #include "frep/util/thread_pool.hpp"
-#include "frep/util/json.hpp"
 
 #include "frep/expr/opcode.hpp"
 #include "frep/expr/semantics.hpp"

@@ -20,8 +20,8 @@
 #include <cmath>
 #include <limits>
 
-#include "frep/math/morton.hpp"
 #include "frep/error.hpp"
+#include "util/morton.hpp"
 
 namespace frep::convert_detail {
 namespace {

@@ -9,9 +9,9 @@
 #include <cstdint>
 
 #include "frep/error.hpp"
-#include "frep/math/morton.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/util/thread_pool.hpp"
+#include "util/morton.hpp"
 
 namespace frep {
 namespace {

@@ -21,10 +21,10 @@
 #include "frep/mesh/topology.hpp"
 #include "frep/mesh/tri_tri.hpp"
 #include "frep/mesh/weld.hpp"
-#include "frep/util/json.hpp"
 #include "frep/util/thread_pool.hpp"
 #include "mesh/arrangement.hpp"
 #include "mesh/fill_holes.hpp"
+#include "util/json.hpp"
 #include "util/union_find.hpp"
 
 namespace frep {

@@ -14,8 +14,8 @@
 #include "frep/mesh/topology.hpp"
 #include "frep/mesh/tri_tri.hpp"
 #include "frep/mesh/weld.hpp"
-#include "frep/util/json.hpp"
 #include "frep/util/thread_pool.hpp"
+#include "util/json.hpp"
 #include "util/union_find.hpp"
 
 namespace frep {

@@ -45,10 +45,10 @@
 #include <optional>
 #include <vector>
 
-#include "frep/math/morton.hpp"
 #include "frep/error.hpp"
 #include "frep/mesh/topology.hpp"
 #include "frep/util/thread_pool.hpp"
+#include "util/morton.hpp"
 
 namespace frep::sample_detail {
 namespace {

@@ -1,5 +1,5 @@
 // JSON text helpers (json.hpp).
-#include "frep/util/json.hpp"
+#include "util/json.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -1,6 +1,7 @@
 // Morton (Z-order) codes: interleaving the bits of three 21-bit cell indices gives a 63-bit key
 // whose sort order keeps points that are near in space near in the list (spatially balanced
 // trees in the converter, cache-friendly orders in the point-cloud evaluator and the sampler).
+// Private to the library (not installed).
 #pragma once
 
 #include <cstdint>

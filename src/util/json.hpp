@@ -1,4 +1,5 @@
-// JSON text for the reports the CLI prints with --json: escaped strings and numbers.
+// JSON text for the reports the CLI prints with --json (ValidationReport::to_json,
+// repair_report_json): escaped strings and numbers. Private to the library (not installed).
 #pragma once
 
 #include <string>
