@@ -61,7 +61,7 @@ void register_convert(CLI::App& app) {
       };
     const ConvertResult r = convert_mesh(mesh, opt);
     const auto t0 = std::chrono::steady_clock::now();
-    if (std::filesystem::path(a->output).extension() == ".frep") {
+    if (std::filesystem::path(a->output).extension() == ".frep" || is_device(a->output)) {
       // frep's own format keeps the triangles beside the closed form: reading it back evaluates
       // through the mesh (a mesh leaf), and writes the same formula again.
       auto closed = std::make_shared<const std::string>(serialize_frep(*r.model.graph, r.model.root, r.model.info));

@@ -20,7 +20,7 @@ namespace {
 
 void check_output_path(const std::string& path, const std::string& input) {
   const MeshFormat f = format_from_extension(path);
-  if (f != MeshFormat::Stl && f != MeshFormat::Obj && f != MeshFormat::Ply)
+  if (f != MeshFormat::Stl && f != MeshFormat::Obj && f != MeshFormat::Ply && !is_device(path))
     throw InputError(path, 0, "unknown mesh format for the output: use a .stl, .obj or .ply file name");
   check_output(path, {input});
 }

@@ -53,7 +53,7 @@ void register_repair(CLI::App& app) {
     opt.quiet = a->quiet || a->json;
     opt.remesh_resolution = a->resolution;
     // STL stores floats: the repair works on float coordinates, so that what is written is what was checked.
-    opt.float_coordinates = format_from_extension(a->output) == MeshFormat::Stl;
+    opt.float_coordinates = format_from_extension(a->output) == MeshFormat::Stl || is_device(a->output);
     RepairResult r = make_solid(mesh, opt);
     MeshWriteOptions wo;
     wo.ascii = a->ascii;

@@ -144,7 +144,7 @@ void register_sample(CLI::App& app) {
     std::optional<Box3> bounds;
     if (!a->bounds.empty()) bounds = parse_bounds(a->bounds);
     const std::filesystem::path out(a->output);
-    if (out.extension() != ".npy")
+    if (out.extension() != ".npy" && !is_device(a->output))
       throw CLI::ValidationError("--output", "frep sample writes NumPy .npy files: name the output X.npy (got " +
                                                  a->output + ")");
     check_output(a->output, {a->input});

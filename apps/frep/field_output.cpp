@@ -23,6 +23,7 @@ std::string fmt_point(const Vec3& p) { return fmt::format("{:.6g}, {:.6g}, {:.6g
 }  // namespace
 
 bool is_mesh_output(const std::string& path) {
+  if (is_device(path)) return true;  // /dev/null: a binary STL, as write_mesh writes there
   const MeshFormat f = format_from_extension(path);
   return f == MeshFormat::Stl || f == MeshFormat::Obj || f == MeshFormat::Ply;
 }

@@ -10,6 +10,7 @@
 #include "frep/expr/model.hpp"
 #include "frep/contour/mesh_options.hpp"
 #include "frep/mesh/mesh.hpp"
+#include "frep/util/atomic_file.hpp"
 
 namespace frep::cli {
 
@@ -48,6 +49,9 @@ void print_read_warnings(const std::string& path, const std::vector<std::string>
 
 // Before any work: `output` can be written (its directory exists and is writable) and is not one of
 // the input files (writing it would replace the input). Throws InputError naming the output.
+// Commands that choose the output format from the extension accept a device instead (is_device,
+// frep/util/atomic_file.hpp: /dev/null) and write their default format to it in place: render PNG,
+// mesh / offset / shell / repair binary STL, convert .frep, sample .npy.
 void check_output(const std::string& output, std::initializer_list<std::string> inputs);
 
 // read_mesh, then print_read_warnings: how commands read the meshes they are given.

@@ -4,6 +4,7 @@
 #include "frep/io/frep_file.hpp"
 #include "frep/io/rhai.hpp"
 #include "frep/io/vm.hpp"
+#include "frep/util/atomic_file.hpp"
 #include "util/text_scan.hpp"
 
 namespace frep {
@@ -17,6 +18,7 @@ Format format_of(const std::string& path) {
   if (detail::iequals(ext, "vm")) return Format::Vm;
   if (detail::iequals(ext, "frep")) return Format::Frep;
   if (detail::iequals(ext, "rhai")) return Format::Rhai;
+  if (is_device(path)) return Format::Frep;  // /dev/null: frep's own format, written in place
   throw InputError(path, 0, "unknown expression format: use a .vm, .rhai or .frep file name");
 }
 

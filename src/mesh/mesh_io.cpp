@@ -215,6 +215,7 @@ std::string write_mesh_to_string(const TriMesh& m, MeshFormat format, bool ascii
 
 void write_mesh(const std::string& path, const TriMesh& mesh, const MeshWriteOptions& options) {
   MeshFormat f = options.format == MeshFormat::Unknown ? format_from_extension(path) : options.format;
+  if (f == MeshFormat::Unknown && is_device(path)) f = MeshFormat::Stl;  // /dev/null: binary STL, in place
   if (f == MeshFormat::Unknown || f == MeshFormat::Off)
     throw InputError(path, 0, "cannot tell the output mesh format; use a .stl, .obj or .ply name");
   write_file_atomically(path, write_mesh_to_string(mesh, f, options.ascii));

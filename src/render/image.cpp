@@ -27,7 +27,7 @@ void append(void* context, void* data, int size) {
 }  // namespace
 
 void check_image_path(const std::string& path) {
-  if (!ends_with(path, ".png") && !ends_with(path, ".pgm"))
+  if (!ends_with(path, ".png") && !ends_with(path, ".pgm") && !is_device(path))
     throw InputError(path, 0, "unknown image format: use a .png or .pgm file name");
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   std::error_code ec;
@@ -46,7 +46,7 @@ void save_image(const std::string& path, const Image& image) {
   FREP_ASSERT(image.pixels.size() == static_cast<std::size_t>(image.width) * image.height * image.channels,
               "image size");
   std::string bytes;
-  if (ends_with(path, ".png")) {
+  if (ends_with(path, ".png") || (!ends_with(path, ".pgm") && is_device(path))) {
     if (!stbi_write_png_to_func(append, &bytes, image.width, image.height, image.channels, image.pixels.data(),
                                 image.width * image.channels))
       throw InputError(path, 0, "PNG encoding failed");

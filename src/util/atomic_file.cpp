@@ -1,6 +1,7 @@
 #include "frep/util/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -101,6 +102,11 @@ void set_signal_cleanup(const std::string& scratch_dir, int child_group) {
     g_has_scratch = true;
   }
   g_child_group = child_group;
+}
+
+bool is_device(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0 && S_ISCHR(st.st_mode);
 }
 
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& produce) {

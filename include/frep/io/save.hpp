@@ -10,7 +10,7 @@
 namespace frep {
 
 // `.vm` (Fidget's text format), `.rhai` (a Fidget script) or `.frep` (frep's binary format);
-// written atomically. Throws
+// written atomically. A device (is_device: /dev/null) gets .frep, written in place. Throws
 // InputError for another extension (naming the supported ones) or an unwritable path.
 // `oracles` keeps oracles in .frep files (the mesh codec: their triangles); other formats, and
 // .frep without a codec, hold the closed form.

@@ -40,13 +40,14 @@ TriMesh read_ply(std::string_view bytes, const std::string& name);
 TriMesh read_off(std::string_view bytes, const std::string& name);
 
 struct MeshWriteOptions {
-  MeshFormat format = MeshFormat::Unknown;  // Unknown: from the output file's extension
+  MeshFormat format = MeshFormat::Unknown;  // Unknown: from the output file's extension (a device: STL)
   bool ascii = false;                       // STL only: ASCII instead of binary
 };
 
 // Serializes a mesh (STL binary/ASCII, OBJ, binary little-endian PLY).
 std::string write_mesh_to_string(const TriMesh& mesh, MeshFormat format, bool ascii = false);
-// Writes a mesh file atomically. Throws InputError for an unknown format or an unwritable path.
+// Writes a mesh file atomically (a device, is_device: binary STL, in place). Throws InputError for an
+// unknown format or an unwritable path.
 void write_mesh(const std::string& path, const TriMesh& mesh, const MeshWriteOptions& options = {});
 
 }  // namespace frep

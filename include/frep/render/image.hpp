@@ -19,11 +19,12 @@ struct Image {
   }
 };
 
-// Writes atomically; the format comes from the extension (.png, or .pgm for grayscale images).
+// Writes atomically; the format comes from the extension (.png, or .pgm for grayscale images); a
+// device (is_device: /dev/null) gets PNG, written in place.
 // Throws InputError for an unknown extension, a colour image as .pgm, or a write failure.
 void save_image(const std::string& path, const Image& image);
 
-// Throws InputError unless `path` has a supported extension and its directory exists: lets a
+// Throws InputError unless `path` has a supported extension (or is a device) and its directory exists: lets a
 // command fail before long work rather than after it.
 void check_image_path(const std::string& path);
 // The same for an image of `channels` channels (.pgm holds grayscale only).

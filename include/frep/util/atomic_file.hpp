@@ -21,6 +21,12 @@ namespace frep {
 void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& produce);
 void write_file_atomically(const std::string& path, std::string_view bytes);
 
+// True when `path` names an existing character device (stat follows links: /dev/null, or
+// /dev/stdout on a terminal). Writers that choose a format from the extension use a default format
+// there instead of refusing the name (save_image: PNG, write_mesh: binary STL, save_expression:
+// .frep), and the file is written in place.
+bool is_device(const std::string& path);
+
 // Opt-in, for programs (never called by the library itself): installs handlers for SIGINT,
 // SIGTERM, SIGHUP and SIGQUIT that remove the temporary file being written (so an interrupted
 // conversion leaves no 150 MB leftover), kill the TetGen child process group and remove its
