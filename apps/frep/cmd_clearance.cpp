@@ -1,5 +1,5 @@
 // frep clearance: the gap between two bodies, or how deep they interfere, and where: the minimum
-// of S = A + B over space (UGF.md, "Two-body field and clearance"), found by ugf::find_clearance.
+// of S = A + B over space (docs/ugf.md, "Two bodies and clearance"), found by ugf::find_clearance.
 // Two meshes are compared as meshes (frep/mesh/mesh_pair.hpp): the gap between them is their
 // exact surface distance, which boxes could not prove (S is constant along the whole shortest
 // segment); the interval search is left with the interference depth only.

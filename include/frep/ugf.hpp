@@ -1,4 +1,4 @@
-// Unit gradient field modeling (../shared/UGF.md, docs/ugf.md): offsets, shells, exact booleans,
+// Unit gradient field modeling (docs/ugf.md, whose "The mathematics" says what each computes): offsets, shells, exact booleans,
 // blends, the edge frame, chamfers, rounds, pencils, two-body fields, clearance, normalization,
 // the gyroid lattice and medial-axis tracking, each a function that builds an expression.
 #pragma once

@@ -25,7 +25,8 @@ using test::fstr;
 using test::same_value;
 
 // ---------------------------------------------------------------------------------------------
-// The reference semantics themselves, against the rules in DESIGN.md, in float and double.
+// The reference semantics themselves, against the rules docs/engine.md lists ("Expressions"), in
+// float and double.
 
 template <class T>
 void check_semantics_rules() {

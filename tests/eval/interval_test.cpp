@@ -141,7 +141,8 @@ TEST(IntervalOps, EveryBinaryOpContainsItsPointValuesAndChoicesAreRight) {
   }
 }
 
-// The choices DESIGN.md promises.
+// The choices interval_op reports for and, or, compare, min, max and not: the side an operation
+// surely returns over the whole interval, Both when either side may be returned.
 TEST(IntervalOps, DocumentedChoices) {
   Choice ch;
   Interval r = interval_op(Op::And, {1, 2}, {-5, 5}, &ch);

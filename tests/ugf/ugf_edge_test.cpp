@@ -1,6 +1,6 @@
 // Booleans, chamfers, rounds and pencils of two planes at dihedral angles 30..150 degrees, placed
 // at random in 3D, against the exact signed distance of the solid computed independently in
-// double precision (2D cross-section profiles of segments and arcs): equal where UGF.md says the
+// double precision (2D cross-section profiles of segments and arcs): equal where docs/ugf.md says the
 // formula is exact, never larger in magnitude where it is a bound; unit gradient by finite
 // differences off the creases; finite gradients everywhere. Also the edge frame identities and
 // the fallbacks at degenerate angles.

@@ -1,4 +1,4 @@
-// Smooth blends (UGF.md, "Booleans": the smooth minimum family). These are bounds, not unit
+// Smooth blends (docs/ugf.md, "Smooth blends": the smooth minimum family). These are bounds, not unit
 // gradient fields: with signed distances in, the gradient is a convex combination of the two
 // input gradients, so its length is at most 1 and the value never overestimates the distance
 // to the blended surface (it underestimates it inside the blend). Offsetting a blend therefore

@@ -1,4 +1,4 @@
-// Booleans of unit gradient fields (UGF.md, "Booleans"): plain min/max, the distance-preserving
+// Booleans of unit gradient fields (docs/ugf.md, "Booleans"): plain min/max, the distance-preserving
 // forms for any dihedral angle, and the right-angle forms. A = 0 and B = 0 are the two surfaces,
 // inside negative; c = dot(grad A, grad B) = cos(phi), phi the angle between the outward normals
 // (a box edge has phi = 90 degrees). c is built with the symbolic gradient (derivative.hpp).

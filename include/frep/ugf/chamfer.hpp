@@ -1,4 +1,4 @@
-// Chamfers between two faces A and B (UGF.md, "Chamfers"), of an intersection (a convex edge of
+// Chamfers between two faces A and B (docs/ugf.md, "Chamfers"), of an intersection (a convex edge of
 // the solid A <= 0 and B <= 0) or of a union (a concave edge of A <= 0 or B <= 0).
 #pragma once
 

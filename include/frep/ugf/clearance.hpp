@@ -1,6 +1,6 @@
 // Measuring the clearance between two bodies: the minimum of S = A + B (two_body.hpp) over a
-// region, by interval branch and bound with a local polish (UGF.md, "Two-body field and
-// clearance").
+// region, by interval branch and bound with a local polish (docs/ugf.md, "Two bodies
+// and clearance").
 #pragma once
 
 #include <cstddef>

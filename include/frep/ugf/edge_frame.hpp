@@ -1,4 +1,4 @@
-// The edge frame of two unit gradient fields A and B (UGF.md, "The edge frame"): the sum and
+// The edge frame of two unit gradient fields A and B (docs/ugf.md, "The edge frame"): the sum and
 // difference fields S = A + B and D = A - B, whose gradients are perpendicular, normalized to
 // Sn = S / |grad S| and Dn = D / |grad D|. For planes, (Sn, Dn) are orthonormal coordinates of
 // the cross-section around the edge: A = Sn cos(phi/2) + Dn sin(phi/2), B = Sn cos(phi/2) -

@@ -1,4 +1,4 @@
-// The gyroid triply periodic surface as a lattice (UGF.md, "Gradient normalization"): an example
+// The gyroid triply periodic surface as a lattice (docs/ugf.md, "Normalization and the gyroid"): an example
 // of a field that is not a distance, made usable by normalization.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Medial-axis tracking through booleans (UGF.md, "Medial-axis tracking through booleans"): a
+// Medial-axis tracking through booleans (docs/ugf.md, "Medial-axis tracking"): a
 // field carried together with M, a signed distance-like field to its crease set (where its
 // gradient jumps). Useful for variable fillets, thickness analysis and "distance to the middle
 // of the wall". This is the crease of the UGF; where a boolean is not a signed distance it

@@ -1,4 +1,4 @@
-// Gradient normalization (UGF.md, "Gradient normalization").
+// Gradient normalization (docs/ugf.md, "Normalization and the gyroid").
 #pragma once
 
 #include "frep/expr/expr.hpp"

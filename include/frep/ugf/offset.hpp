@@ -1,4 +1,4 @@
-// Offsets and shells of unit gradient fields (UGF.md, "Offsets and shells"). Inside is negative.
+// Offsets and shells of unit gradient fields (docs/ugf.md, "Offsets and shells"). Inside is negative.
 #pragma once
 
 #include "frep/expr/expr.hpp"

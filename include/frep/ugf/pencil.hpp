@@ -1,4 +1,4 @@
-// Pencils of planes through an edge (UGF.md, "Pencils").
+// Pencils of planes through an edge (docs/ugf.md, "Pencils").
 #pragma once
 
 #include "frep/expr/expr.hpp"

@@ -1,4 +1,4 @@
-// Rounds (fillets) of radius r between two faces A and B (UGF.md, "Rounds").
+// Rounds (fillets) of radius r between two faces A and B (docs/ugf.md, "Rounds").
 #pragma once
 
 #include "frep/expr/expr.hpp"

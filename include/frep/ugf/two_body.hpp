@@ -1,4 +1,4 @@
-// Fields between two bodies A and B (UGF.md, "Two-body field and clearance"): the two-body
+// Fields between two bodies A and B (docs/ugf.md, "Two bodies and clearance"): the two-body
 // parameter, the surfaces between the bodies, the midsurface and the clearance field.
 #pragma once
 
