@@ -127,12 +127,8 @@ void orient_sheets(TriMesh& m, RepairReport& r) {
           continue;
         }
         const std::uint32_t g = topo.edge_faces(e)[0] == t ? topo.edge_faces(e)[1] : topo.edge_faces(e)[0];
-        // Same direction along the shared edge: g is turned relative to t.
-        const Triangle &ft = m.triangles[t], &fg = m.triangles[g];
-        const std::uint32_t a = ft[k], b = ft[(k + 1) % 3];
-        bool same = false;
-        for (int j = 0; j < 3; ++j) same = same || (fg[j] == a && fg[(j + 1) % 3] == b);
-        const char want = static_cast<char>(turn[t] ^ (same ? 1 : 0));
+        // Both traversing the edge the same way: g is turned relative to t.
+        const char want = static_cast<char>(turn[t] ^ (topo.consistent(e) ? 0 : 1));
         if (sheet[g] == kUnset) {
           sheet[g] = id, turn[g] = want;
           stack.push_back(g);
@@ -184,48 +180,41 @@ void orient_sheets(TriMesh& m, RepairReport& r) {
 // more and the surface is a manifold. Returns the number of vertices split.
 std::size_t separate_touching(TriMesh& m, double gap) {
   const std::size_t nt = m.triangles.size();
-  struct Use {
-    std::uint64_t key;
-    std::uint32_t face;
-    std::uint8_t k;  // edge k of the face: corners k, k + 1
+  // Read before any corner changes: a face keeps its index, and only a split vertex's corners
+  // are replaced.
+  const MeshTopology topo(m);
+  const auto local_edge = [&](std::uint32_t f, std::uint32_t e) {
+    const auto& edges = topo.triangle_edges(f);
+    return static_cast<std::uint32_t>(std::find(edges.begin(), edges.end(), e) - edges.begin());
   };
-  std::vector<Use> uses;
-  uses.reserve(3 * nt);
-  for (std::uint32_t f = 0; f < nt; ++f)
-    for (std::uint8_t k = 0; k < 3; ++k) {
-      const std::uint32_t a = m.triangles[f][k], b = m.triangles[f][(k + 1) % 3];
-      uses.push_back({(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b), f, k});
-    }
-  std::sort(uses.begin(), uses.end(), [](const Use& x, const Use& y) { return x.key < y.key; });
   constexpr std::uint32_t kNone = 0xffffffffu;
   std::vector<std::uint32_t> partner(3 * nt, kNone);  // per (face, edge): the face across, in its wedge
-  for (std::size_t i = 0; i < uses.size();) {
-    std::size_t j = i;
-    while (j < uses.size() && uses[j].key == uses[i].key) ++j;
-    const std::size_t count = j - i;
-    if (count == 2) {
-      partner[3 * uses[i].face + uses[i].k] = uses[i + 1].face;
-      partner[3 * uses[i + 1].face + uses[i + 1].k] = uses[i].face;
-    } else if (count > 2) {
-      const std::uint32_t va = static_cast<std::uint32_t>(uses[i].key >> 32), vb = static_cast<std::uint32_t>(uses[i].key);
-      const Vec3 a = m.vertices[va];
-      Vec3 d = m.vertices[vb] - a;
+  const auto pair = [&](std::uint32_t f, std::uint32_t g, std::uint32_t e) {
+    partner[3 * f + local_edge(f, e)] = g;
+    partner[3 * g + local_edge(g, e)] = f;
+  };
+  for (std::uint32_t e = 0; e < topo.num_edges(); ++e) {
+    const std::span<const std::uint32_t> faces = topo.edge_faces(e);
+    if (faces.size() == 2) {
+      pair(faces[0], faces[1], e);
+    } else if (faces.size() > 2) {
+      const Vec3 a = m.vertices[topo.edge_vertices(e)[0]];
+      Vec3 d = m.vertices[topo.edge_vertices(e)[1]] - a;
       d = d * (1 / length(d));
       const Vec3 e1 = std::fabs(d.x) < 0.6 ? cross(d, Vec3{1, 0, 0}) : cross(d, Vec3{0, 1, 0});
       const Vec3 x1 = e1 * (1 / length(e1)), x2 = cross(d, x1);
       struct Around {
         double angle;
         bool opens;  // the solid lies on its side of increasing angle
-        std::size_t use;
+        std::uint32_t face;
       };
       std::vector<Around> around;
-      for (std::size_t u = i; u < j; ++u) {
-        const Triangle& t = m.triangles[uses[u].face];
-        const Vec3 c = m.vertices[t[(uses[u].k + 2) % 3]];
+      for (std::uint32_t f : faces) {
+        const Triangle& t = m.triangles[f];
+        const Vec3 c = m.vertices[t[(local_edge(f, e) + 2) % 3]];
         Vec3 w = c - a;
         w = w - d * dot(w, d);
-        const Vec3 normal = face_cross(m, t);
-        around.push_back({std::atan2(dot(w, x2), dot(w, x1)), dot(normal, cross(d, w)) < 0, u});
+        around.push_back({std::atan2(dot(w, x2), dot(w, x1)), dot(face_cross(m, t), cross(d, w)) < 0, f});
       }
       std::sort(around.begin(), around.end(), [](const Around& x, const Around& y) { return x.angle < y.angle; });
       const std::size_t n = around.size();
@@ -235,20 +224,15 @@ std::size_t separate_touching(TriMesh& m, double gap) {
         for (std::size_t step = 1; step < n; ++step) {
           const std::size_t o = (s + step) % n;
           if (used[o] || around[o].opens) continue;
-          const Use &x = uses[around[s].use], &y = uses[around[o].use];
-          partner[3 * x.face + x.k] = y.face;
-          partner[3 * y.face + y.k] = x.face;
+          pair(around[s].face, around[o].face, e);
           used[s] = used[o] = 1;
           break;
         }
       }
     }
-    i = j;
   }
-  // Fans at every vertex: its faces linked through their paired edges at it. The topology is
-  // read before any corner changes: a face keeps its index, and only v's corners are replaced.
+  // Fans at every vertex: its faces linked through their paired edges at it.
   const std::size_t nv = m.vertices.size();
-  const MeshTopology topo(m);
   std::size_t split = 0;
   UnionFind fans;
   for (std::uint32_t v = 0; v < nv; ++v) {
@@ -300,13 +284,6 @@ std::size_t separate_touching(TriMesh& m, double gap) {
   return split;
 }
 
-// An edge of the cut surface as one piece traverses it.
-struct EdgeUse {
-  std::uint64_t key;     // (lower vertex, higher vertex)
-  std::uint32_t piece;
-  bool forward;          // traversed from the lower vertex to the higher
-};
-
 // One round: seeds, the arrangement, patches, the winding number on both sides of each patch,
 // and the pieces kept, facing outside.
 TriMesh cut_and_keep(const TriMesh& m, RepairReport& r, const Deadline& deadline, int threads) {
@@ -353,35 +330,11 @@ TriMesh cut_and_keep(const TriMesh& m, RepairReport& r, const Deadline& deadline
 
   // Patches: pieces joined through edges that exactly two pieces use. `flip` says whether a
   // piece is turned relative to its patch's first piece (the two traverse their edge the same way).
-  std::vector<EdgeUse> uses;
-  uses.reserve(3 * np);
-  for (std::uint32_t i = 0; i < np; ++i)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = pieces[i].v[k], b = pieces[i].v[(k + 1) % 3];
-      uses.push_back({(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b), i, a < b});
-    }
-  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
-    return x.key != y.key ? x.key < y.key : x.piece < y.piece;
-  });
-  std::vector<std::uint32_t> adj_start(np + 1, 0);
-  std::vector<std::pair<std::uint32_t, bool>> adj;  // neighbour, turned relative to this piece
-  {
-    std::vector<std::array<std::uint32_t, 3>> links;
-    for (std::size_t i = 0; i < uses.size();) {
-      std::size_t j = i;
-      while (j < uses.size() && uses[j].key == uses[i].key) ++j;
-      if (j - i == 2) links.push_back({uses[i].piece, uses[i + 1].piece, uses[i].forward == uses[i + 1].forward});
-      i = j;
-    }
-    for (const auto& l : links) ++adj_start[l[0] + 1], ++adj_start[l[1] + 1];
-    for (std::size_t i = 0; i < np; ++i) adj_start[i + 1] += adj_start[i];
-    adj.resize(adj_start[np]);
-    std::vector<std::uint32_t> fill(adj_start.begin(), adj_start.end() - 1);
-    for (const auto& l : links) {
-      adj[fill[l[0]]++] = {l[1], l[2] != 0};
-      adj[fill[l[1]]++] = {l[0], l[2] != 0};
-    }
-  }
+  TriMesh cut;
+  cut.vertices = V;
+  cut.triangles.reserve(np);
+  for (const arrangement::Piece& pc : pieces) cut.triangles.push_back(pc.v);
+  const MeshTopology pieces_topo(cut);
   constexpr std::uint32_t kUnset = 0xffffffffu;
   std::vector<std::uint32_t> patch(np, kUnset);
   std::vector<char> flip(np, 0);
@@ -401,9 +354,11 @@ TriMesh cut_and_keep(const TriMesh& m, RepairReport& r, const Deadline& deadline
         stack.pop_back();
         const double area = length(cross(V[pieces[i].v[1]] - V[pieces[i].v[0]], V[pieces[i].v[2]] - V[pieces[i].v[0]]));
         if (area > best) best = area, rep[id] = i;
-        for (std::uint32_t k = adj_start[i]; k < adj_start[i + 1]; ++k) {
-          const auto [j, turned] = adj[k];
-          const char f = static_cast<char>(flip[i] ^ (turned ? 1 : 0));
+        for (std::uint32_t e : pieces_topo.triangle_edges(i)) {
+          if (e == MeshTopology::kNone || pieces_topo.edge_face_count(e) != 2) continue;
+          const auto faces = pieces_topo.edge_faces(e);
+          const std::uint32_t j = faces[0] == i ? faces[1] : faces[0];
+          const char f = static_cast<char>(flip[i] ^ (pieces_topo.consistent(e) ? 0 : 1));
           if (patch[j] == kUnset) {
             patch[j] = id, flip[j] = f;
             stack.push_back(j);
