@@ -553,20 +553,19 @@ RepairResult repair_mesh(const TriMesh& input, const RepairOptions& options) {
   ValidationOptions vo;
   vo.weld_tolerance = options.weld_tolerance;
   vo.threads = options.threads;
-  r.before = validate_mesh(input, vo);
+  // With float coordinates the input is rounded first, and "before" is the check of what is cut.
+  TriMesh rounded;
+  if (options.float_coordinates) {
+    rounded = input;
+    round_vertices_to_float(rounded);
+  }
+  const TriMesh& in = options.float_coordinates ? rounded : input;
+  r.before = validate_mesh(in, vo);
   r.volume_before = r.before.volume;
   if (input.triangles.empty()) throw InputError(input.name, 0, "the mesh has no triangles: nothing to repair");
   const auto say = [&](const std::string& s) {
     if (!options.quiet) std::fprintf(stderr, "frep: repair: %s (%.2f s)\n", s.c_str(), deadline.seconds());
   };
-
-  TriMesh rounded;
-  if (options.float_coordinates) {
-    rounded = input;
-    round_vertices_to_float(rounded);
-    r.before = validate_mesh(rounded, vo);
-  }
-  const TriMesh& in = options.float_coordinates ? rounded : input;
   TriMesh m;
   if (r.before.is_solid()) {
     // Nothing to cut: the welded input as it is (its zero-area triangles close it).
@@ -586,7 +585,8 @@ RepairResult repair_mesh(const TriMesh& input, const RepairOptions& options) {
     std::size_t merged = 0;
     m = clean(in, tol, r.degenerate_removed, &merged);
     // Merges within the exact weld are what frep check welds too: count only the closed cracks.
-    r.vertices_merged = merged - weld(in, {options.weld_tolerance}).merged;
+    const std::size_t used = r.before.file_vertices - r.before.defect(DefectKind::UnusedVertices).count;
+    r.vertices_merged = merged - (used - r.before.welded_vertices);
     if (!m.triangles.empty()) orient_sheets(m, r);
     vo.weld_tolerance = 0;
     const int rounds = std::max(1, options.max_rounds) * (options.float_coordinates ? 2 : 1);
