@@ -11,14 +11,7 @@
 #   bash bench/mesh_fields.sh [MESH...]
 source "$(dirname "$0")/common.sh"
 build_targets frep
-data=../shared/data/meshes
-if [ $# -gt 0 ]; then
-  meshes=("$@")
-else
-  meshes=("$data/fandisk.obj" "$data/menger_sponge_l3.obj" "$data/thingi10k_73416.stl" "$data/armadillo_libigl.obj"
-          "$data/scallop_manifold.obj")
-fi
-for m in "${meshes[@]}"; do require_input "$m"; done
+meshes_or_defaults "$@"
 other=${OTHER:-}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

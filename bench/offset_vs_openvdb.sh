@@ -11,15 +11,7 @@
 # ../shared/data/meshes (or meshes given on the command line).
 source "$(dirname "$0")/common.sh"
 build_targets frep bench_offset_vdb
-data=../shared/data/meshes
-if [ $# -gt 0 ]; then
-  meshes=("$@")
-else
-  # CAD parts and scans of 13k to 120k triangles.
-  meshes=("$data/fandisk.obj" "$data/menger_sponge_l3.obj" "$data/thingi10k_73416.stl" "$data/armadillo_libigl.obj"
-          "$data/scallop_manifold.obj")
-fi
-for m in "${meshes[@]}"; do require_input "$m"; done
+meshes_or_defaults "$@"
 resolutions=${RES:-"128 256"}
 jobs=${JOBS:-"offset shell"}
 tmp=$(mktemp -d)
