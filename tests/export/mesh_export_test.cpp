@@ -177,6 +177,28 @@ Affine3 test_map() {
   return a;
 }
 
+// A mesh used twice (as it is and moved by test_map) inside a mixed expression: an offset, a
+// difference with a ball, a union with the moved copy plus a linear term.
+struct MixedMeshExpression {
+  std::shared_ptr<const MeshOracle> oracle = std::make_shared<const MeshOracle>(make_sphere(2, 0.6));
+  Graph g;
+  NodeId root = kNoNode;
+  MixedMeshExpression() {
+    Expr x = g.x(), y = g.y(), z = g.z();
+    const Expr solid(g, g.oracle(oracle)), moved(g, g.oracle(oracle->transformed(test_map())));
+    const Expr ball = sqrt(square(x - 0.5f) + square(y) + square(z)) - 0.4f;
+    root = min(max(solid - 0.05f, -ball), moved + 0.01f * x).id();
+  }
+};
+
+// `near` points around the mesh (mesh_points) and 3000 uniform in [-1.5, 1.5]^3.
+std::vector<float> mixed_points(const MeshOracle& oracle, std::size_t near, unsigned seed) {
+  std::vector<float> xyz = mesh_points(oracle, near, 500, 100);
+  std::mt19937_64 rng(seed);
+  for (int i = 0; i < 3000; ++i) xyz.push_back(std::uniform_real_distribution<float>(-1.5f, 1.5f)(rng));
+  return xyz;
+}
+
 // A field given by code that is not a mesh: the exports write its closed form.
 class BallOracle final : public Oracle {
  public:
@@ -228,21 +250,14 @@ TEST(MeshExport, CGivesTheOraclesValues) {
 TEST(MeshExport, CMixedExpressionsAndMovedMeshes) {
   FREP_REQUIRE_PROGRAM("cc");
   ScratchDir dir;
-  const TriMesh mesh = make_sphere(2, 0.6);
-  const auto oracle = std::make_shared<const MeshOracle>(mesh);
-  Graph g;
-  Expr x = g.x(), y = g.y(), z = g.z();
-  const Expr solid(g, g.oracle(oracle)), moved(g, g.oracle(oracle->transformed(test_map())));
-  const Expr ball = sqrt(square(x - 0.5f) + square(y) + square(z)) - 0.4f;
-  const Expr e = min(max(solid - 0.05f, -ball), moved + 0.01f * x);
-  const std::string c = export_c(g, e.id());
+  const MixedMeshExpression mixed;
+  const Graph& g = mixed.g;
+  const std::string c = export_c(g, mixed.root);
   EXPECT_EQ(count(c, "static const double frep_sdf_vertices["), 1u) << "the mesh is written once";
   EXPECT_EQ(count(c, "static float frep_sdf_oracle"), 2u);
   EXPECT_NE(c.find("(float)(1.0825"), std::string::npos) << "the moved copy's map, in double";
-  std::vector<float> xyz = mesh_points(*oracle, 1000, 500, 100);
-  std::mt19937_64 rng(3);
-  for (int i = 0; i < 3000; ++i) xyz.push_back(std::uniform_real_distribution<float>(-1.5f, 1.5f)(rng));
-  const std::vector<float> want = library_values(g, e.id(), xyz);
+  const std::vector<float> xyz = mixed_points(*mixed.oracle, 1000, 3);
+  const std::vector<float> want = library_values(g, mixed.root, xyz);
   const Agreement a = compare(xyz, want, run_c(dir, c, xyz), 0, 0, "C, mixed", 2e-7);
   print("C, mixed", a);
   EXPECT_GE(a.identical, a.points * 99 / 100);
@@ -450,26 +465,20 @@ TEST(MeshExport, GlslMixedExpressionsAndMovedMeshes) {
   const bool validator = have_program("glslangValidator"), cxx = have_program("c++");
   if (!validator && !cxx) GTEST_SKIP() << "neither glslangValidator nor c++ is installed";
   ScratchDir dir;
-  const auto oracle = std::make_shared<const MeshOracle>(make_sphere(2, 0.6));
-  Graph g;
-  Expr x = g.x(), y = g.y(), z = g.z();
-  const Expr solid(g, g.oracle(oracle)), moved(g, g.oracle(oracle->transformed(test_map())));
-  const Expr ball = sqrt(square(x - 0.5f) + square(y) + square(z)) - 0.4f;
-  const Expr e = min(max(solid - 0.05f, -ball), moved + 0.01f * x);
-  const std::string glsl = export_glsl(g, e.id());
+  const MixedMeshExpression mixed;
+  const Graph& g = mixed.g;
+  const std::string glsl = export_glsl(g, mixed.root);
   EXPECT_EQ(count(glsl, "const vec3 sdf_vertices["), 1u) << "the mesh is written once";
   EXPECT_EQ(count(glsl, "float sdf_oracle"), 2u);
   if (validator) {
     expect_valid_function(dir, glsl);
     std::ostringstream toy;
-    write_shadertoy(toy, g, e.id());
+    write_shadertoy(toy, g, mixed.root);
     expect_valid_shadertoy(dir, toy.str());
   }
   if (!cxx) return;
-  std::vector<float> xyz = mesh_points(*oracle, 500, 500, 100);
-  std::mt19937_64 rng(5);
-  for (int i = 0; i < 3000; ++i) xyz.push_back(std::uniform_real_distribution<float>(-1.5f, 1.5f)(rng));
-  const Agreement a = compare(xyz, library_values(g, e.id(), xyz), run_glsl_as_cpp(dir, glsl, xyz), 1e-5, 1e-5, "GLSL, mixed", 1e-6, 2.0);
+  const std::vector<float> xyz = mixed_points(*mixed.oracle, 500, 5);
+  const Agreement a = compare(xyz, library_values(g, mixed.root, xyz), run_glsl_as_cpp(dir, glsl, xyz), 1e-5, 1e-5, "GLSL, mixed", 1e-6, 2.0);
   print("GLSL as C++, mixed", a);
   EXPECT_EQ(a.farther + a.signs, 0u);
 }
