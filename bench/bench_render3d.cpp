@@ -24,7 +24,7 @@
 #include <optional>
 
 #include "frep/convert/convert.hpp"
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 #include "frep/render/render3d.hpp"
 
 namespace {

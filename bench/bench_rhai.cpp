@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "frep/expr/expr.hpp"
-#include "frep/io/rhai.hpp"
+#include "frep/script/rhai.hpp"
 #include "frep/io/vm.hpp"
 
 namespace {

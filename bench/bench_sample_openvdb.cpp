@@ -29,7 +29,7 @@
 
 #include "frep/convert/convert.hpp"
 #include "frep/eval/point_cloud.hpp"
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 #include "frep/mesh/mesh_io.hpp"
 #include "frep/sample/grid.hpp"
 #include "frep/mesh/mesh_field.hpp"

@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "frep/error.hpp"
-#include "frep/io/rhai.hpp"
+#include "frep/script/rhai.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

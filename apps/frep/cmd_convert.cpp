@@ -9,7 +9,7 @@
 #include "frep/convert/convert.hpp"
 #include "frep/convert/mesh_oracle.hpp"
 #include "frep/io/frep_file.hpp"
-#include "frep/io/save.hpp"
+#include "frep/script/save.hpp"
 #include "frep/mesh/mesh_io.hpp"
 
 namespace frep::cli {

@@ -9,7 +9,7 @@
 #include "input.hpp"
 #include "frep/error.hpp"
 #include "frep/eval/point_cloud.hpp"
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 #include "frep/io/points.hpp"
 #include "frep/util/atomic_file.hpp"
 

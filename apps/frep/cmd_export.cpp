@@ -12,7 +12,7 @@
 #include "frep/export/c_source.hpp"
 #include "frep/export/glsl.hpp"
 #include "frep/export/latex.hpp"
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 #include "frep/util/atomic_file.hpp"
 
 namespace frep::cli {

@@ -6,7 +6,7 @@
 #include "input.hpp"
 #include "frep/eval/tape.hpp"
 #include "frep/expr/oracle.hpp"
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 
 namespace frep::cli {
 
@@ -30,13 +30,16 @@ void register_info(CLI::App& app) {
     fmt::print("tape: {} instructions, {} registers, {} choices (min/max/and/or)\n", tape.code().size(),
                tape.num_registers(), tape.choice_count());
     if (m.info.lipschitz > 0)
-      fmt::print("lipschitz: {:g} (|f(p) - f(q)| <= {:g} |p - q|{})\n", m.info.lipschitz, m.info.lipschitz,
-                 m.info.lipschitz == 1 ? ": a distance field, as frep convert writes" : "");
+      fmt::print("lipschitz: {:g} (|f(p) - f(q)| <= {:g} |p - q|)\n", m.info.lipschitz, m.info.lipschitz);
     if (!m.info.bounds.empty()) {
       const Box3& b = m.info.bounds;
       fmt::print("bounds: {:.9g}, {:.9g}, {:.9g} .. {:.9g}, {:.9g}, {:.9g} (holds every point where it is negative)\n",
                  b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
     }
+    if (m.info.growth == Growth::Distance)
+      fmt::print("growth: distance (at least the distance to the inside, outside it: offsets grow the bounds)\n");
+    else if (m.info.growth == Growth::Box)
+      fmt::print("growth: box (where it is below t >= 0 lies within t of the bounds: offsets grow them)\n");
     fmt::print("opcodes:\n");
     for (int op = 0; op < kEngineOpCount; ++op)
       if (counts[op]) fmt::print("  {:<8} {}\n", op_name(static_cast<Op>(op)), counts[op]);

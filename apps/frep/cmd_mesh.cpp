@@ -12,7 +12,7 @@
 #include "input.hpp"
 #include "frep/contour/mesher.hpp"
 #include "frep/error.hpp"
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 #include "frep/mesh/mesh_io.hpp"
 
 namespace frep::cli {

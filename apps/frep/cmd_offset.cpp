@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "field_output.hpp"
 #include "input.hpp"
+#include "frep/contour/bounds.hpp"
 #include "frep/ugf/offset.hpp"
 
 namespace frep::cli {
@@ -42,18 +43,21 @@ void register_offset(CLI::App& app) {
     Model m = load_input(a->input, o->quiet, nullptr, o->repair);
     note_if_not_a_distance("offset", a->input, m, o->quiet);
     o->lipschitz = lipschitz_of(m, o->lipschitz);  // an offset keeps it
-    const Expr result = ugf::offset(m.root_expr(), static_cast<float>(a->distance));
+    Field input = field_of(m);
+    input.info.lipschitz = std::max(0.0, o->lipschitz);
+    const Field result = ugf::offset(input, static_cast<float>(a->distance));
+    FieldInfo info = result.info;
     // Compiled once, and only if needed: for the bounds check or the mesh.
     const bool mesh_out = is_mesh_output(a->output);
+    const bool check = info.bounds.empty() && !m.info.bounds.empty();
     std::optional<Tape> tape;
-    if (mesh_out || !m.info.bounds.empty()) tape = Tape::compile(*m.graph, result.id());
-    // For a distance, the result's inside is the input's grown by the distance (shrunk boxes stay
-    // valid); checked, since other fields reach farther.
-    FieldInfo info{std::max(0.0, o->lipschitz), {}};
-    if (!m.info.bounds.empty()) info.bounds = checked_growth(*tape, m.info.bounds.inflated(std::max(a->distance, 0.0)));
+    if (mesh_out || check) tape = Tape::compile(*m.graph, result.expr.id());
+    // The input's box, when its growth is unknown: grown by the distance if the result proves
+    // positive around it.
+    if (check) info.bounds = checked_bounds(*tape, m.info.bounds.inflated(std::max(a->distance, 0.0)));
     // Only a mesh output needs the region (an expression is saved whatever its bounds).
     const Box3 region = mesh_out ? input_region(a->input, info, *tape, *o) : Box3{};
-    write_field_output(a->input, a->output, *m.graph, result.id(), region, *o, info, tape ? &*tape : nullptr);
+    write_field_output(a->input, a->output, *m.graph, result.expr.id(), region, *o, info, tape ? &*tape : nullptr);
   });
 }
 

@@ -10,7 +10,7 @@
 #include "commands.hpp"
 #include "input.hpp"
 #include "frep/error.hpp"
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 #include "frep/render/render2d.hpp"
 #include "frep/render/render3d.hpp"
 #include "frep/render/shade.hpp"

@@ -15,7 +15,7 @@
 #include "frep/util/memory_budget.hpp"
 #include "frep/error.hpp"
 #include "frep/convert/mesh_oracle.hpp"
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 #include "frep/io/npy.hpp"
 #include "frep/mesh/mesh_io.hpp"
 #include "frep/sample/grid.hpp"

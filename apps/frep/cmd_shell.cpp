@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "field_output.hpp"
 #include "input.hpp"
+#include "frep/contour/bounds.hpp"
 #include "frep/ugf/offset.hpp"
 
 namespace frep::cli {
@@ -50,17 +51,19 @@ void register_shell(CLI::App& app) {
     note_if_not_a_distance("shell", a->input, m, o->quiet);
     o->lipschitz = lipschitz_of(m, o->lipschitz);  // every side keeps it (max and abs of L-Lipschitz fields)
     const float t = static_cast<float>(a->thickness);
-    const Expr f = m.root_expr();
+    Field f = field_of(m);
+    f.info.lipschitz = std::max(0.0, o->lipschitz);
     const bool outward = a->side == "outward", inward = a->side == "inward";
-    const Expr result = inward ? ugf::shell_inward(f, t) : outward ? ugf::shell_outward(f, t) : ugf::shell(f, t);
-    // The wall's inside: for a distance, within the input's box grown by what the wall adds
-    // outside; checked, since other fields reach farther.
+    const Field result = inward ? ugf::shell_inward(f, t) : outward ? ugf::shell_outward(f, t) : ugf::shell(f, t);
+    FieldInfo info = result.info;
     const bool mesh_out = is_mesh_output(a->output);
+    const bool check = info.bounds.empty() && !m.info.bounds.empty();
     std::optional<Tape> tape;  // compiled once, and only if needed
-    if (mesh_out || !m.info.bounds.empty()) tape = Tape::compile(*m.graph, result.id());
-    FieldInfo info{std::max(0.0, o->lipschitz), {}};
-    if (!m.info.bounds.empty())
-      info.bounds = checked_growth(*tape, m.info.bounds.inflated(inward ? 0.0 : outward ? a->thickness : a->thickness / 2));
+    if (mesh_out || check) tape = Tape::compile(*m.graph, result.expr.id());
+    // The input's box, when its growth is unknown: grown by what the wall adds outside if the
+    // result proves positive around it.
+    if (check)
+      info.bounds = checked_bounds(*tape, m.info.bounds.inflated(inward ? 0.0 : outward ? a->thickness : a->thickness / 2));
     if (mesh_out) {
       const Box3 region = input_region(a->input, info, *tape, *o);
       const Vec3 size = region.size();
@@ -83,9 +86,9 @@ void register_shell(CLI::App& app) {
                    "frep: warning: the wall ({:.6g}) is thinner than two cells ({:.6g}); parts of it may be lost in the "
                    "mesh: raise --resolution\n",
                    a->thickness, cell);
-      write_field_output(a->input, a->output, *m.graph, result.id(), region, *o, info, &*tape);
+      write_field_output(a->input, a->output, *m.graph, result.expr.id(), region, *o, info, &*tape);
     } else {
-      write_field_output(a->input, a->output, *m.graph, result.id(), Box3{}, *o, info);
+      write_field_output(a->input, a->output, *m.graph, result.expr.id(), Box3{}, *o, info);
     }
   });
 }

@@ -12,7 +12,7 @@
 #include "frep/contour/mesher.hpp"
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
-#include "frep/io/save.hpp"
+#include "frep/script/save.hpp"
 #include "frep/mesh/mesh_io.hpp"
 
 namespace frep::cli {
@@ -78,37 +78,15 @@ void check_field_output(const std::string& path, const std::string& input) {
 Box3 input_region(const std::string& input, const FieldInfo& info, const Tape& tape, const FieldOutputOptions& o) {
   if (!o.bounds.empty())
     return Box3{{o.bounds[0], o.bounds[1], o.bounds[2]}, {o.bounds[3], o.bounds[4], o.bounds[5]}};
-  // A converted mesh's bounding box (the interval search on big converted meshes takes far more
-  // time).
-  if (!info.bounds.empty()) return info.bounds;
   BoundsSearchOptions bs;
   bs.threads = o.threads;
   bs.lipschitz = std::max(0.0, o.lipschitz);
-  BoundsResult b;
   try {
-    b = find_bounds(tape, bs);
+    return field_region(tape, info, bs);
   } catch (const InputError& e) {
     if (!e.file().empty()) throw;
     throw InputError(input, 0, e.detail());
   }
-  if (b.empty) throw InputError(input, 0, "the field is not negative anywhere: the solid is empty, there is nothing to work on");
-  return b.box;
-}
-
-Box3 checked_growth(const Tape& result, const Box3& grown) {
-  if (grown.empty()) return {};
-  // 0.3% beyond: a converted mesh's own box bound (see convert) sits 0.1% outside its triangles.
-  const Box3 box = grown.inflated(0.003 * length(grown.size()));
-  IntervalEvaluator ie;
-  for (int axis = 0; axis < 3; ++axis)
-    for (const double at : {box.lo[axis], box.hi[axis]}) {
-      Interval iv[3];
-      for (int a = 0; a < 3; ++a) iv[a] = a == axis ? Interval{static_cast<float>(at), static_cast<float>(at)}
-                                                   : Interval{static_cast<float>(box.lo[a]), static_cast<float>(box.hi[a])};
-      const Interval r = ie.eval(result, iv[0], iv[1], iv[2]);
-      if (!(r.lo > 0)) return {};
-    }
-  return box;
 }
 
 void write_field_output(const std::string& input, const std::string& path, const Graph& g, NodeId root,

@@ -45,12 +45,6 @@ void check_field_output(const std::string& path, const std::string& input);
 // InputError naming `input` if the field is unbounded or empty.
 Box3 input_region(const std::string& input, const FieldInfo& info, const Tape& tape, const FieldOutputOptions& o);
 
-// The box of a result's inside after an operation that grows the input's known box by a
-// distance: `grown` widened by 0.3% of its diagonal, if the result is positive on that box's
-// boundary (interval arithmetic; exact distances such as converted meshes pass), else empty (a
-// field that is not a distance, or whose Lipschitz bound is below 1, can reach much farther).
-Box3 checked_growth(const Tape& result, const Box3& grown);
-
 // Writes the field `root` of `g` to `path`: as an expression, or meshed by dual contouring with
 // `region` as the known box of its inside (one extra cell on every side), or over the given
 // --bounds exactly (cut and capped there). InputError naming `input` when the result is empty.

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "frep/convert/convert.hpp"
+#include "frep/script/load.hpp"
 #include "frep/convert/make_solid.hpp"
 #include "frep/error.hpp"
 #include "frep/mesh/mesh_io.hpp"

@@ -8,6 +8,8 @@
 #include "frep/util/large_allocator.hpp"
 #include "frep/util/memory_budget.hpp"
 #include "frep/util/thread_pool.hpp"
+#include "frep/util/text_scan.hpp"
+#include "frep/util/parse_number.hpp"
 
 #include "frep/expr/opcode.hpp"
 #include "frep/expr/semantics.hpp"
@@ -19,8 +21,14 @@
 #include "frep/expr/remap.hpp"
 #include "frep/expr/copy.hpp"
 
+#include "frep/model/field.hpp"
+#include "frep/model/shapes.hpp"
+#include "frep/model/csg.hpp"
+#include "frep/model/transform.hpp"
+
 #include "frep/eval/interval.hpp"
-#include "frep/eval/grad.hpp"
+#include "frep/math/grad.hpp"
+#include "frep/math/interval.hpp"
 #include "frep/eval/tape.hpp"
 #include "frep/eval/backend.hpp"
 #include "frep/eval/evaluators.hpp"
@@ -30,11 +38,12 @@
 
 #include "frep/util/atomic_file.hpp"
 #include "frep/io/frep_file.hpp"
-#include "frep/io/load.hpp"
+#include "frep/io/field_comments.hpp"
+#include "frep/script/load.hpp"
 #include "frep/io/npy.hpp"
 #include "frep/io/points.hpp"
-#include "frep/io/rhai.hpp"
-#include "frep/io/save.hpp"
+#include "frep/script/rhai.hpp"
+#include "frep/script/save.hpp"
 #include "frep/io/vm.hpp"
 
 #include "frep/mesh/mesh.hpp"

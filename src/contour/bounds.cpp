@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "frep/error.hpp"
+#include "frep/eval/evaluators.hpp"
 #include "frep/eval/subdivision.hpp"
 
 namespace frep {
@@ -116,6 +117,32 @@ BoundsResult find_bounds(const Tape& tape, const BoundsSearchOptions& o) {
   }
   res.box = box;
   return res;
+}
+
+Box3 field_region(const Tape& tape, const FieldInfo& info, const BoundsSearchOptions& options) {
+  // A converted mesh's box is known; the interval search on big converted meshes takes far longer.
+  if (!info.bounds.empty()) return info.bounds;
+  BoundsSearchOptions o = options;
+  if (!(o.lipschitz > 0)) o.lipschitz = info.lipschitz;
+  const BoundsResult b = find_bounds(tape, o);
+  if (b.empty) throw InputError("", 0, "the field is not negative anywhere: the solid is empty, there is nothing to work on");
+  return b.box;
+}
+
+Box3 checked_bounds(const Tape& result, const Box3& grown) {
+  if (grown.empty()) return {};
+  // 0.3% beyond: a converted mesh's own box bound (see convert) sits 0.1% outside its triangles.
+  const Box3 box = grown.inflated(0.003 * length(grown.size()));
+  IntervalEvaluator ie;
+  for (int axis = 0; axis < 3; ++axis)
+    for (const double at : {box.lo[axis], box.hi[axis]}) {
+      Interval iv[3];
+      for (int a = 0; a < 3; ++a) iv[a] = a == axis ? Interval{static_cast<float>(at), static_cast<float>(at)}
+                                                   : Interval{static_cast<float>(box.lo[a]), static_cast<float>(box.hi[a])};
+      const Interval r = ie.eval(result, iv[0], iv[1], iv[2]);
+      if (!(r.lo > 0)) return {};
+    }
+  return box;
 }
 
 }  // namespace frep

@@ -246,6 +246,7 @@ ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& o) {
   if (s != 1.0) r.model.root = g.binary(Op::Mul, r.model.root, g.constant(static_cast<float>(s)));
   r.model.info.lipschitz = 1;  // an exact distance (both sign methods), in the mesh's own units
   r.model.info.bounds = st.box;  // the solid is inside its triangles' bounding box
+  r.model.info.growth = Growth::Distance;  // an exact distance: offsets grow the box by their distance
   st.nodes = reachable_nodes(g, r.model.root).size();
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   report(o, "done", 1.0);

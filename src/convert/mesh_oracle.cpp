@@ -276,6 +276,7 @@ Model mesh_model(std::shared_ptr<const MeshOracle> oracle) {
   Model m;
   m.info.lipschitz = 1;
   m.info.bounds = oracle->inside_box();
+  m.info.growth = Growth::Distance;
   m.root = m.graph->oracle(std::move(oracle));
   return m;
 }

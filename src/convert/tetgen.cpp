@@ -23,8 +23,8 @@
 #include "frep/math/predicates.hpp"
 #include "frep/util/atomic_file.hpp"
 #include "util/interrupt_cleanup.hpp"
-#include "util/parse_number.hpp"
-#include "util/text_scan.hpp"
+#include "frep/util/parse_number.hpp"
+#include "frep/util/text_scan.hpp"
 
 namespace frep::convert_detail {
 namespace {

@@ -97,7 +97,7 @@ std::string serialize_frep(const Graph& g, NodeId root, const FieldInfo& info, c
   out.reserve(kHeader + order.size() * 4 + 4);
   out.append(kFrepMagic);
   put<std::uint32_t>(out, records.empty() ? kVersion : kOracleVersion);
-  put<std::uint32_t>(out, 0);
+  put<std::uint32_t>(out, info.bounds.empty() ? 0u : static_cast<std::uint32_t>(info.growth));  // flags: FieldInfo::growth
   put<std::uint64_t>(out, order.size());
   put<std::uint64_t>(out, order.size() - 1);  // the root is last in topological order
   put<double>(out, info.lipschitz > 0 ? info.lipschitz : 0.0);
@@ -157,6 +157,9 @@ Model parse_frep(std::string_view b, const std::string& name, const FrepOracleCo
     const Box3 box{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
     if (known == 6 && std::isfinite(v[0] + v[1] + v[2] + v[3] + v[4] + v[5]) && !box.empty()) m.info.bounds = box;
     else if (known != 0) throw fail(kHeaderV1 + 8, "bad bounds in the header");
+    const auto growth = get<std::uint32_t>(b, 12) & 3u;
+    if (growth > static_cast<std::uint32_t>(Growth::Distance)) throw fail(12, "bad flags in the header");
+    if (!m.info.bounds.empty()) m.info.growth = static_cast<Growth>(growth);
   }
   Graph& g = *m.graph;
   std::vector<NodeId> ids;

@@ -7,7 +7,7 @@
 
 #include "frep/error.hpp"
 #include "frep/util/atomic_file.hpp"
-#include "util/parse_number.hpp"
+#include "frep/util/parse_number.hpp"
 
 namespace frep {
 namespace {

@@ -10,9 +10,9 @@
 #include "frep/error.hpp"
 #include "frep/expr/copy.hpp"
 #include "frep/util/atomic_file.hpp"
-#include "io/field_info.hpp"
-#include "util/parse_number.hpp"
-#include "util/text_scan.hpp"
+#include "frep/io/field_comments.hpp"
+#include "frep/util/parse_number.hpp"
+#include "frep/util/text_scan.hpp"
 
 namespace frep {
 namespace {

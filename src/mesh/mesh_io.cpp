@@ -7,7 +7,7 @@
 
 #include "frep/error.hpp"
 #include "frep/util/atomic_file.hpp"
-#include "util/text_scan.hpp"
+#include "frep/util/text_scan.hpp"
 
 namespace frep {
 using namespace detail;

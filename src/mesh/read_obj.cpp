@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "frep/mesh/mesh_io.hpp"
-#include "util/text_scan.hpp"
+#include "frep/util/text_scan.hpp"
 
 namespace frep {
 namespace {

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "frep/mesh/mesh_io.hpp"
-#include "util/text_scan.hpp"
+#include "frep/util/text_scan.hpp"
 
 namespace frep {
 namespace {

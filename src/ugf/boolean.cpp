@@ -42,4 +42,30 @@ Expr unite_right_angle(Expr A, Expr B) {
 
 Expr subtract_right_angle(Expr A, Expr B) { return intersect_right_angle(A, -B); }
 
+namespace {
+FieldInfo without_bound(FieldInfo f) {
+  f.lipschitz = 0;
+  return f;
+}
+}  // namespace
+
+Field intersect_exact(const Field& A, const Field& B, const EdgeOptions& opt) {
+  return Field(intersect_exact(A.expr, B.expr, opt), without_bound(intersection_info(A.info, B.info)));
+}
+Field unite_exact(const Field& A, const Field& B, const EdgeOptions& opt) {
+  return Field(unite_exact(A.expr, B.expr, opt), without_bound(union_info(A.info, B.info)));
+}
+Field subtract_exact(const Field& A, const Field& B, const EdgeOptions& opt) {
+  return Field(subtract_exact(A.expr, B.expr, opt), without_bound(difference_info(A.info, B.info)));
+}
+Field intersect_right_angle(const Field& A, const Field& B) {
+  return Field(intersect_right_angle(A.expr, B.expr), without_bound(intersection_info(A.info, B.info)));
+}
+Field unite_right_angle(const Field& A, const Field& B) {
+  return Field(unite_right_angle(A.expr, B.expr), without_bound(union_info(A.info, B.info)));
+}
+Field subtract_right_angle(const Field& A, const Field& B) {
+  return Field(subtract_right_angle(A.expr, B.expr), without_bound(difference_info(A.info, B.info)));
+}
+
 }  // namespace frep::ugf

@@ -18,7 +18,7 @@
 #include "cli_test_util.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/expr/expr.hpp"
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 #include "frep/io/npy.hpp"
 #include "frep/io/vm.hpp"
 #include "frep/mesh/mesh_io.hpp"

@@ -14,7 +14,7 @@
 #include "frep/convert/convert.hpp"
 #include "frep/error.hpp"
 #include "frep/expr/expr.hpp"
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 #include "frep/io/vm.hpp"
 #include "frep/mesh/mesh_io.hpp"
 #include "mesh_test_util.hpp"

@@ -12,6 +12,7 @@
 #include "convert_test_util.hpp"
 #include "frep/contour/mesher.hpp"
 #include "frep/convert/convert.hpp"
+#include "frep/script/load.hpp"
 #include "frep/convert/mesh_oracle.hpp"
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"

@@ -6,10 +6,11 @@
 #include <fstream>
 
 #include "frep/convert/convert.hpp"
+#include "frep/script/load.hpp"
 #include "frep/convert/mesh_oracle.hpp"
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
-#include "frep/io/rhai.hpp"
+#include "frep/script/rhai.hpp"
 #include "frep/mesh/mesh_io.hpp"
 #include "mesh_test_util.hpp"
 

@@ -9,7 +9,7 @@
 #include "frep/error.hpp"
 #include "frep/export/c_source.hpp"
 #include "frep/expr/expr.hpp"
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 #include "test_util.hpp"
 
 namespace frep::test {

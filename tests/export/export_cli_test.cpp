@@ -10,7 +10,7 @@
 #include "frep/export/glsl.hpp"
 #include "frep/export/latex.hpp"
 #include "frep/expr/expr.hpp"
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 #include "frep/io/vm.hpp"
 
 namespace frep::test {

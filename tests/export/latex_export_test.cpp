@@ -11,7 +11,7 @@
 #include "frep/error.hpp"
 #include "frep/export/latex.hpp"
 #include "frep/expr/expr.hpp"
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 #include "latex_reader.hpp"
 #include "test_util.hpp"
 

@@ -7,7 +7,7 @@
 #include <random>
 
 #include "frep/error.hpp"
-#include "frep/io/rhai.hpp"
+#include "frep/script/rhai.hpp"
 #include "frep/util/atomic_file.hpp"
 
 namespace frep {

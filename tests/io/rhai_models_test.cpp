@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 #include "frep/eval/evaluators.hpp"
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 #include "rhai_test_util.hpp"
 
 namespace frep {

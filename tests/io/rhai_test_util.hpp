@@ -11,7 +11,7 @@
 
 #include "frep/error.hpp"
 #include "frep/expr/expr.hpp"
-#include "frep/io/rhai.hpp"
+#include "frep/script/rhai.hpp"
 #include "test_util.hpp"
 
 namespace frep::test {

@@ -11,7 +11,7 @@
 #include "frep/convert/mesh_oracle.hpp"
 #include "frep/error.hpp"
 #include "frep/expr/expr.hpp"
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 #include "frep/render/render3d.hpp"
 #include "mesh_test_util.hpp"
 #include "test_util.hpp"

@@ -8,7 +8,7 @@
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/expr/expr.hpp"
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 #include "frep/render/slice.hpp"
 #include "test_util.hpp"
 

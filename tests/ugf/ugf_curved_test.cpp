@@ -87,7 +87,7 @@ TEST(UgfCurved, EveryOperationStaysFinite) {
   }
   for (float x : {-0.5f, 0.6f, 0.0f, 1.4f, -1.5f}) pts.push_back({x, 0.0f, 0.0f});
   for (const auto& [name, e] : ops) {
-    Field F(e);
+    Probe F(e);
     for (const P3& p : pts) {
       // The two-body field is infinite where A + B = 0 (inside the overlap): skip those.
       if (name == "two_body" && !std::isfinite(F(p))) continue;
@@ -105,7 +105,7 @@ TEST(UgfCurved, ExactIntersectionOfSpheresIsCloserThanMax) {
     return sqrt(square(g.x() - float(c[0])) + square(g.y() - float(c[1])) + square(g.z() - float(c[2]))) - float(r);
   };
   const Expr A = sphere(lens.ca, lens.ra), B = sphere(lens.cb, lens.rb);
-  Field E(ugf::intersect_exact(A, B)), M(max(A, B));
+  Probe E(ugf::intersect_exact(A, B)), M(max(A, B));
   std::mt19937_64 rng(102);
   ErrorStat exact_err, max_err, near_exact, near_max;
   for (int i = 0; i < 3000; ++i) {

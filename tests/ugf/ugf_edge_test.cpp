@@ -36,7 +36,7 @@ class UgfEdgeOps : public ::testing::Test {
   // Samples `f` around the edge of `fr` and compares with `ref`.
   void check(const std::string& name, Expr f, const Frame3& fr, const std::function<double(V2)>& ref,
              const ExactWhere& exact, bool unit_gradient = true, int n = 500) {
-    Field F(f);
+    Probe F(f);
     OpStats& st = stats_[name];
     for (int i = 0; i < n; ++i) {
       // The first points sit on the edge itself and on the faces' planes, where distances to the
@@ -262,7 +262,7 @@ TEST(UgfEdgeFrame, DegenerateAnglesFallBackToMaxAndMin) {
         {ugf::pencil_chamfer(f, 0.1f, -0.2f), mx},
     };
     for (const auto& [op, fallback] : pairs) {
-      Field F(op), M(fallback);
+      Probe F(op), M(fallback);
       for (int i = 0; i < 50; ++i) {
         std::uniform_real_distribution<double> u(-3, 3);
         const auto p = fr.point({u(rng), u(rng)}, u(rng));

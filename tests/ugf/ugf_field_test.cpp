@@ -38,7 +38,7 @@ TEST(UgfBlends, NeverOverestimateTheDistanceToTheirZeroSet) {
           {ugf::smooth_difference(A, B, k, blends[bi]), w.nD()},
       };
       for (const auto& [f, m] : ops) {
-        Field F(f);
+        Probe F(f);
         const V2 across{-m.y, m.x};
         std::vector<V2> zero;
         for (int i = 0; i <= 1200; ++i) {
@@ -78,7 +78,7 @@ TEST(UgfBlends, PolynomialBlendsAreMinOutsideTheBlendZone) {
   Graph g;
   auto x = g.x(), y = g.y();
   for (ugf::Blend b : {ugf::Blend::Quadratic, ugf::Blend::Cubic}) {
-    Field U(ugf::smooth_union(x, y, 0.5f, b)), I(ugf::smooth_intersection(x, y, 0.5f, b));
+    Probe U(ugf::smooth_union(x, y, 0.5f, b)), I(ugf::smooth_intersection(x, y, 0.5f, b));
     EXPECT_EQ(U({0.2f, 0.9f, 0}), 0.2f);
     EXPECT_EQ(I({0.2f, 0.9f, 0}), 0.9f);
     EXPECT_LT(U({0.2f, 0.3f, 0}), 0.2f);
@@ -112,7 +112,7 @@ TEST(UgfTwoBody, XiIsMinusOneOnAAndPlusOneOnB) {
   const Sphere sa{{-1.0, 0.2, 0.1}, 0.7}, sb{{1.1, -0.3, 0.4}, 0.5};
   Graph g;
   const Expr A = sa.sdf(g), B = sb.sdf(g);
-  Field Xi(ugf::two_body(A, B)), U(ugf::two_body_parameter(A, B));
+  Probe Xi(ugf::two_body(A, B)), U(ugf::two_body_parameter(A, B));
   ErrorStat err;
   for (int i = 0; i < 200; ++i) {
     const P3 pa = sa.surface_point(rng), pb = sb.surface_point(rng);
@@ -124,7 +124,7 @@ TEST(UgfTwoBody, XiIsMinusOneOnAAndPlusOneOnB) {
   report("two_body Xi on the surfaces (-1, +1), parameter (0, 1)", err);
   EXPECT_LE(err.max_err, 1e-5);
   // Xi = t exactly where A / B = (1 + t) / (1 - t), at any point (not only on the segment).
-  Field FA(A), FB(B);
+  Probe FA(A), FB(B);
   ErrorStat ratio;
   for (int i = 0; i < 200; ++i) {
     const P3 p{float(std::uniform_real_distribution<double>(-2, 2)(rng)), float(std::uniform_real_distribution<double>(-2, 2)(rng)),
@@ -141,10 +141,10 @@ TEST(UgfTwoBody, SurfacesBetweenTheBodies) {
   const Sphere sa{{-1.0, 0.2, 0.1}, 0.7}, sb{{1.1, -0.3, 0.4}, 0.5};
   Graph g;
   const Expr A = sa.sdf(g), B = sb.sdf(g);
-  Field Xi(ugf::two_body(A, B));
+  Probe Xi(ugf::two_body(A, B));
   ErrorStat zero, unit;
   for (float t : {-0.6f, 0.0f, 0.5f}) {
-    Field S(ugf::between(A, B, t));
+    Probe S(ugf::between(A, B, t));
     for (int i = 0; i < 60; ++i) {
       // Bisection for Xi = t along a segment from A's surface to B's (Xi goes from -1 to +1).
       const P3 pa = sa.surface_point(rng), pb = sb.surface_point(rng);
@@ -174,7 +174,7 @@ TEST(UgfTwoBody, MidsurfaceOfParallelPlanes) {
   Graph g;
   // Body A: u <= -0.8, body B: u >= 1.2 (outward normals -u and +u); the midplane is u = 0.2.
   const Expr A = fr.plane(g, {1, 0}, -0.8), B = fr.plane(g, {-1, 0}, -1.2);
-  Field M(ugf::midsurface(A, B));
+  Probe M(ugf::midsurface(A, B));
   ErrorStat err;
   for (int i = 0; i < 300; ++i) {
     const auto p = fr.point({std::uniform_real_distribution<double>(-3, 3)(rng), std::uniform_real_distribution<double>(-3, 3)(rng)},
@@ -207,7 +207,7 @@ TEST(UgfTwoBody, ClearanceOfSpheresIsTheGap) {
     const double off_line = distance3(p, sa.c) + distance3(p, sb.c) - distance3(sa.c, sb.c);
     EXPECT_LT(off_line, 1e-3);
     // S is constant along the shortest segment.
-    Field S(ugf::clearance_field(A, B));
+    Probe S(ugf::clearance_field(A, B));
     for (double s : {0.2, 0.5, 0.8}) {
       const double t = sa.r + s * gap;  // from A's surface towards B
       const double d = distance3(sa.c, sb.c);
@@ -229,7 +229,7 @@ TEST(UgfNormalize, SampsonNormalizationOfAnImplicitSphere) {
   std::mt19937_64 rng(96);
   Graph g;
   auto x = g.x(), y = g.y(), z = g.z();
-  Field N(ugf::normalize(square(x) + square(y) + square(z) - 1.0f));
+  Probe N(ugf::normalize(square(x) + square(y) + square(z) - 1.0f));
   ErrorStat unit, near;
   for (int i = 0; i < 300; ++i) {
     std::normal_distribution<double> n(0, 1);
@@ -255,9 +255,9 @@ TEST(UgfGyroid, GradientBoundsAndNormalizations) {
   const float L = 2.0f;
   const double w = 2 * M_PI / L;
   Graph g;
-  Field G(ugf::gyroid(g, L)), Sn(ugf::gyroid_normalized(g, L, ugf::GyroidScale::Sampson)),
+  Probe G(ugf::gyroid(g, L)), Sn(ugf::gyroid_normalized(g, L, ugf::GyroidScale::Sampson)),
       Bd(ugf::gyroid_normalized(g, L, ugf::GyroidScale::Bound));
-  Field sheet(ugf::gyroid_sheet(g, L, 0.3f)), net(ugf::gyroid_network(g, L, 0.1f));
+  Probe sheet(ugf::gyroid_sheet(g, L, 0.3f)), net(ugf::gyroid_network(g, L, 0.1f));
   double gmin = 1e9, gmax = 0;
   ErrorStat unit, bound_excess, sheet_err;
   int on_surface = 0;
@@ -307,7 +307,7 @@ TEST(UgfMedial, SquareCreaseIsTheDiagonals) {
   auto face = [&](V2 n) { return ugf::track_plane(fr.plane(g, n, a)); };
   const ugf::Tracked sq = ugf::intersect(ugf::intersect(face({1, 0}), face({-1, 0})),
                                          ugf::intersect(face({0, 1}), face({0, -1})));
-  Field M(sq.m), F(sq.f);
+  Probe M(sq.m), F(sq.f);
   ErrorStat err;
   for (int i = 0; i < 500; ++i) {
     const auto p = fr.point({std::uniform_real_distribution<double>(-2.5, 2.5)(rng), std::uniform_real_distribution<double>(-2.5, 2.5)(rng)},
@@ -327,7 +327,7 @@ TEST(UgfMedial, SphereOffsetAndShell) {
   const double R = 1.1;
   const ugf::Tracked s = ugf::track_sphere(g, 0.2f, -0.1f, 0.3f, R);
   const ugf::Tracked o = ugf::offset(s, 0.3f), sh = ugf::shell(s, 0.2f), n = ugf::negate(s);
-  Field Ms(s.m), Mo(o.m), Msh(sh.m), Mn(n.m);
+  Probe Ms(s.m), Mo(o.m), Msh(sh.m), Mn(n.m);
   ErrorStat err;
   for (int i = 0; i < 300; ++i) {
     const P3 p = {float(std::uniform_real_distribution<double>(-2, 2)(rng)), float(std::uniform_real_distribution<double>(-2, 2)(rng)),
@@ -347,7 +347,7 @@ TEST(UgfMedial, SphereOffsetAndShell) {
 TEST(UgfMedial, ParallelPlanesAddNoCrease) {
   Graph g;
   const ugf::Tracked p1 = ugf::track_plane(g.x() - 1.0f), p2 = ugf::track_plane(g.x() - 2.0f);
-  Field M(ugf::intersect(p1, p2).m), U(ugf::unite(p1, p2).m), D(ugf::subtract(p1, p2).m);
+  Probe M(ugf::intersect(p1, p2).m), U(ugf::unite(p1, p2).m), D(ugf::subtract(p1, p2).m);
   EXPECT_EQ(M({0.3f, 0.2f, 0.1f}), std::numeric_limits<float>::infinity());
   EXPECT_EQ(U({0.3f, 0.2f, 0.1f}), std::numeric_limits<float>::infinity());
   // max(x - 1, 2 - x): the crease is x = 1.5.

@@ -100,7 +100,7 @@ class Table {
 // the field is smooth.
 void compare(Table& table, const std::string& name, Expr f, const std::function<double(const P3&)>& ref,
              const std::function<bool(double)>& exact_at, std::mt19937_64& rng, int n = 1000, double range = 3) {
-  Field F(f);
+  Probe F(f);
   Stats& st = table[name];
   for (int i = 0; i < n; ++i) {
     const P3 p = random_point(rng, range);
@@ -153,7 +153,7 @@ TEST(UgfSolids, GradientExactlyOnTheFaces) {
                                    ugf::intersect_right_angle(ugf::intersect_right_angle(sx, sy), sz)};
   const std::vector<Expr> unions = {ugf::unite_right_angle(x - 1.0f, y - 1.0f), ugf::unite_exact(x - 1.0f, y - 1.0f)};
   for (int k = 0; k < 4; ++k) {
-    Field F(k < 2 ? boxes[k] : unions[k - 2]);
+    Probe F(k < 2 ? boxes[k] : unions[k - 2]);
     for (float a : {-0.5f, 0.0f, 0.25f, 0.5f}) {
       // On the face x = 1 of the box, or of the union's half-space x <= 1 where y > 1.
       const P3 p{1.0f, k < 2 ? a : 2.0f + a, a * 0.5f};
@@ -244,7 +244,7 @@ TEST(UgfSolids, VariableThicknessShell) {
   auto x = g.x(), z = g.z();
   const Expr F = z;                      // the plane z = 0
   const Expr T = 0.2f + 0.05f * x;       // thickness growing with x
-  Field S(ugf::shell_variable(F, T));
+  Probe S(ugf::shell_variable(F, T));
   ErrorStat unit, thick;
   for (float px = -1; px <= 1; px += 0.125f) {
     const float t = 0.2f + 0.05f * px;

@@ -243,9 +243,9 @@ inline Profile rounded_profile(const Wedge& w, double r) {
 // Evaluation
 
 // f32 value (point evaluator), gradient (gradient evaluator), and double-precision value.
-class Field {
+class Probe {
  public:
-  explicit Field(Expr e) : tape_(Tape::compile(e.graph(), e.id())) {}
+  explicit Probe(Expr e) : tape_(Tape::compile(e.graph(), e.id())) {}
   float operator()(const std::array<float, 3>& p) { return pe_.eval(tape_, p[0], p[1], p[2]); }
   Grad grad(const std::array<float, 3>& p) { return ge_.eval(tape_, p[0], p[1], p[2]); }
   // The same expression evaluated in double precision (the reference semantics).

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "frep/eval/tape.hpp"
+#include "frep/expr/model.hpp"
 #include "frep/math/vec.hpp"
 
 namespace frep {
@@ -26,5 +27,16 @@ struct BoundsResult {
 // Throws InputError if the inside may reach the search cube's boundary (an unbounded field: a
 // half-space, a 2D expression extruded along z, a periodic lattice...), asking for explicit bounds.
 BoundsResult find_bounds(const Tape& tape, const BoundsSearchOptions& options = {});
+
+// The region to work on for a field: its known box (FieldInfo::bounds) if it has one, else the
+// interval search's (with info's Lipschitz bound when the options give none). Throws InputError
+// (without a file name) when the field is unbounded, or positive everywhere (nothing inside).
+Box3 field_region(const Tape& tape, const FieldInfo& info, const BoundsSearchOptions& options = {});
+
+// For a result whose inside should lie in `grown` (an input's box grown by what an operation
+// adds, when the input's FieldInfo::growth is unknown): `grown` widened by 0.3% of its diagonal
+// if interval arithmetic proves the result positive on that box's boundary, else empty. Exact
+// distances pass; a field that only bounds the distance from below can reach farther and fails.
+Box3 checked_bounds(const Tape& result, const Box3& grown);
 
 }  // namespace frep

@@ -85,12 +85,5 @@ void check_convertible(const std::string& name, const ValidationReport& check);
 // TetGen failures (missing program, crash, timeout, changed surface) are InputErrors too.
 ConvertResult convert_mesh(const TriMesh& mesh, const ConvertOptions& options = {});
 
-// What every command that takes an expression accepts: an expression file (.vm, .rhai, .frep),
-// or a mesh file (.stl, .obj, .ply, .off, told apart by extension), read, checked as
-// convert_mesh checks it (refused as it refuses) and loaded as a mesh oracle
-// (frep/convert/mesh_oracle.hpp): a one-node expression whose closed form is convert_mesh's with
-// `options`. `stats`, when given, receives the mesh's figures (triangles, vertices, box, read
-// warnings, seconds to read and index; nodes = 1), untouched for expressions.
-Model load_field(const std::string& path, const ConvertOptions& options = {}, ConvertStats* stats = nullptr);
 
 }  // namespace frep

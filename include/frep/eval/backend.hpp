@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "frep/eval/grad.hpp"
+#include "frep/math/grad.hpp"
 #include "frep/eval/tape.hpp"
 #include "frep/util/large_allocator.hpp"
 

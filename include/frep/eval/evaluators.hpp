@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "frep/eval/backend.hpp"
-#include "frep/eval/grad.hpp"
+#include "frep/math/grad.hpp"
 #include "frep/eval/interval.hpp"
 #include "frep/eval/tape.hpp"
 

@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "frep/eval/grad.hpp"
+#include "frep/math/grad.hpp"
 #include "frep/eval/tape.hpp"
 
 namespace frep {

@@ -18,8 +18,8 @@
 #include <optional>
 #include <string>
 
-#include "frep/eval/grad.hpp"
-#include "frep/eval/interval.hpp"
+#include "frep/math/grad.hpp"
+#include "frep/math/interval.hpp"
 #include "frep/expr/graph.hpp"
 #include "frep/math/affine.hpp"
 #include "frep/math/vec.hpp"

@@ -4,7 +4,7 @@
 // Layout (little-endian):
 //   8 bytes  magic "FREPexpr"
 //   u32      format version (3 when the file holds oracles, else 2; versions 1 and 2 read too)
-//   u32      flags (0)
+//   u32      flags: bits 0-1 FieldInfo::growth (0 unknown, 1 box, 2 distance), others 0
 //   u64      node count n (nodes in topological order: arguments before their users)
 //   u64      root: index of the expression's value among the nodes
 //   f64      the field's Lipschitz bound (FieldInfo::lipschitz; 0: unknown)          [version 2]

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "frep/expr/expr.hpp"
+#include "frep/model/field.hpp"
 
 namespace frep::ugf {
 
@@ -27,5 +28,12 @@ Expr smooth_union(Expr a, Expr b, float k, Blend blend = Blend::Quadratic);
 Expr smooth_intersection(Expr a, Expr b, float k, Blend blend = Blend::Quadratic);
 // Smooth difference smooth_intersection(a, -b, k).
 Expr smooth_difference(Expr a, Expr b, float k, Blend blend = Blend::Quadratic);
+
+// The same on fields, carrying their facts (frep/model/field.hpp): the larger Lipschitz bound
+// (the gradient is a convex combination); a smooth union's box is the union's grown by how far
+// below min(a, b) the blend goes (k/4, k/6, k ln 2, k/2 by kind); the others' as max's.
+Field smooth_union(const Field& a, const Field& b, float k, Blend blend = Blend::Quadratic);
+Field smooth_intersection(const Field& a, const Field& b, float k, Blend blend = Blend::Quadratic);
+Field smooth_difference(const Field& a, const Field& b, float k, Blend blend = Blend::Quadratic);
 
 }  // namespace frep::ugf

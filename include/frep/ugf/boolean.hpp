@@ -5,6 +5,7 @@
 #pragma once
 
 #include "frep/expr/expr.hpp"
+#include "frep/model/field.hpp"
 #include "frep/ugf/edge_frame.hpp"
 
 namespace frep::ugf {
@@ -38,5 +39,15 @@ Expr intersect_right_angle(Expr A, Expr B);
 Expr unite_right_angle(Expr A, Expr B);
 // intersect_right_angle(A, -B).
 Expr subtract_right_angle(Expr A, Expr B);
+
+// The same on fields, carrying their facts (frep/model/field.hpp). Each intersection is at least
+// max(A, B) and each union equals min(A, B) outside both solids, so the boxes and growths are
+// those of max and min (csg.hpp); their Lipschitz bounds are not proven and stay unknown.
+Field intersect_exact(const Field& A, const Field& B, const EdgeOptions& opt = {});
+Field unite_exact(const Field& A, const Field& B, const EdgeOptions& opt = {});
+Field subtract_exact(const Field& A, const Field& B, const EdgeOptions& opt = {});
+Field intersect_right_angle(const Field& A, const Field& B);
+Field unite_right_angle(const Field& A, const Field& B);
+Field subtract_right_angle(const Field& A, const Field& B);
 
 }  // namespace frep::ugf

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "frep/expr/expr.hpp"
+#include "frep/model/field.hpp"
 
 namespace frep::ugf {
 
@@ -29,5 +30,14 @@ Expr shell_outward(Expr F, float t);
 // surface and re-normalized: (|F| - T/2) / |grad(|F| - T/2)|. Unit gradient on its surface, an
 // approximate distance near it; equal to shell(F, t) for a constant T = t.
 Expr shell_variable(Expr F, Expr T);
+
+// The same on fields, carrying their facts (frep/model/field.hpp): F's Lipschitz bound, and its
+// box grown by as far as the result's inside reaches beyond F's (r for an offset, t/2 for a
+// shell, t outward) when F's growth is known.
+Field offset(const Field& F, float r);
+Field shell(const Field& F, float t);
+Field shell_biased(const Field& F, float t, float b);
+Field shell_inward(const Field& F, float t);
+Field shell_outward(const Field& F, float t);
 
 }  // namespace frep::ugf

@@ -7,8 +7,9 @@
 #include <cmath>
 #include <string>
 
+#include "frep/model/csg.hpp"
 #include "frep/ugf.hpp"
-#include "io/rhai_interp.hpp"
+#include "rhai_interp.hpp"
 
 namespace frep::rhai {
 
@@ -24,6 +25,11 @@ using Args = std::span<Value>;
 
 Expr shape(Interp& in, const Value& v, std::uint32_t pos, std::string_view name, const char* what) {
   return Expr(in.graph(), in.to_expr(v, pos, "the " + std::string(what) + " of `" + std::string(name) + "`"));
+}
+
+// The same with the facts the library recorded for it (frep/model/field.hpp).
+Field field(Interp& in, const Value& v, std::uint32_t pos, std::string_view name, const char* what) {
+  return in.field(shape(in, v, pos, name, what).id());
 }
 
 float number(Interp& in, const Value& v, std::uint32_t pos, std::string_view name, const char* what) {
@@ -94,29 +100,28 @@ Value fn_offset(Interp& in, Args a, std::uint32_t pos) {
   if (a.size() != 2) usage(in, "offset", a, pos, "(shape, distance)");
   const float r = number(in, a[1], pos, "offset", "distance");
   if (is_tracked(a[0])) return tracked_value(ugf::offset(tracked(in, a[0], pos, "offset"), r));
-  return Value::expr(ugf::offset(shape(in, a[0], pos, "offset", "shape"), r).id());
+  return Value::expr(in.keep(ugf::offset(field(in, a[0], pos, "offset", "shape"), r)));
 }
 
 Value fn_shell(Interp& in, Args a, std::uint32_t pos) {
   if (a.size() != 2) usage(in, "shell", a, pos, "(shape, thickness)");
   const float t = number(in, a[1], pos, "shell", "thickness");
   if (is_tracked(a[0])) return tracked_value(ugf::shell(tracked(in, a[0], pos, "shell"), t));
-  return Value::expr(ugf::shell(shape(in, a[0], pos, "shell", "shape"), t).id());
+  return Value::expr(in.keep(ugf::shell(field(in, a[0], pos, "shell", "shape"), t)));
 }
 
 Value fn_shell_biased(Interp& in, Args a, std::uint32_t pos) {
   if (a.size() != 3) usage(in, "shell_biased", a, pos, "(shape, thickness, bias in [-1, 1])");
   const float b = number(in, a[2], pos, "shell_biased", "bias");
   if (!(b >= -1 && b <= 1)) in.fail(pos, "`shell_biased`: the bias must be in [-1, 1] (+1: all inward)");
-  return Value::expr(
-      ugf::shell_biased(shape(in, a[0], pos, "shell_biased", "shape"), number(in, a[1], pos, "shell_biased", "thickness"), b)
-          .id());
+  return Value::expr(in.keep(
+      ugf::shell_biased(field(in, a[0], pos, "shell_biased", "shape"), number(in, a[1], pos, "shell_biased", "thickness"), b)));
 }
 
-template <Expr (*F)(Expr, float)>
+template <Field (*F)(const Field&, float)>
 Value shape_number(Interp& in, Args a, std::uint32_t pos, std::string_view name, const char* what) {
   if (a.size() != 2) usage(in, name, a, pos, (std::string("(shape, ") + what + ")").c_str());
-  return Value::expr(F(shape(in, a[0], pos, name, "shape"), number(in, a[1], pos, name, what)).id());
+  return Value::expr(in.keep(F(field(in, a[0], pos, name, "shape"), number(in, a[1], pos, name, what))));
 }
 Value fn_shell_inward(Interp& in, Args a, std::uint32_t p) { return shape_number<ugf::shell_inward>(in, a, p, "shell_inward", "thickness"); }
 Value fn_shell_outward(Interp& in, Args a, std::uint32_t p) { return shape_number<ugf::shell_outward>(in, a, p, "shell_outward", "thickness"); }
@@ -131,14 +136,21 @@ Value fn_shell_variable(Interp& in, Args a, std::uint32_t pos) {
 // ---------------------------------------------------------------------------------------------
 // Booleans
 
+// Operations with no facts to carry build plain expressions.
 template <Expr (*F)(Expr, Expr)>
-Value two_shapes(Interp& in, Args a, std::uint32_t pos, std::string_view name) {
+Value two_exprs(Interp& in, Args a, std::uint32_t pos, std::string_view name) {
   if (a.size() != 2) usage(in, name, a, pos, "(a, b)");
   return Value::expr(F(shape(in, a[0], pos, name, "first shape"), shape(in, a[1], pos, name, "second shape")).id());
 }
 
+template <Field (*F)(const Field&, const Field&)>
+Value two_shapes(Interp& in, Args a, std::uint32_t pos, std::string_view name) {
+  if (a.size() != 2) usage(in, name, a, pos, "(a, b)");
+  return Value::expr(in.keep(F(field(in, a[0], pos, name, "first shape"), field(in, a[1], pos, name, "second shape"))));
+}
+
 // intersect / unite / subtract: expressions, or tracked maps (medial.hpp) when both are.
-template <Expr (*F)(Expr, Expr), ugf::Tracked (*T)(const ugf::Tracked&, const ugf::Tracked&)>
+template <Field (*F)(const Field&, const Field&), ugf::Tracked (*T)(const ugf::Tracked&, const ugf::Tracked&)>
 Value plain_boolean(Interp& in, Args a, std::uint32_t pos, std::string_view name) {
   if (a.size() == 2 && (is_tracked(a[0]) || is_tracked(a[1]))) {
     if (!is_tracked(a[0]) || !is_tracked(a[1]))
@@ -147,16 +159,17 @@ Value plain_boolean(Interp& in, Args a, std::uint32_t pos, std::string_view name
   }
   return two_shapes<F>(in, a, pos, name);
 }
-Value fn_intersect(Interp& in, Args a, std::uint32_t p) { return plain_boolean<ugf::intersect, ugf::intersect>(in, a, p, "intersect"); }
-Value fn_unite(Interp& in, Args a, std::uint32_t p) { return plain_boolean<ugf::unite, ugf::unite>(in, a, p, "unite"); }
-Value fn_subtract(Interp& in, Args a, std::uint32_t p) { return plain_boolean<ugf::subtract, ugf::subtract>(in, a, p, "subtract"); }
+// The plain booleans are the modeling library's (frep/model/csg.hpp): the same min and max.
+Value fn_intersect(Interp& in, Args a, std::uint32_t p) { return plain_boolean<frep::intersect, ugf::intersect>(in, a, p, "intersect"); }
+Value fn_unite(Interp& in, Args a, std::uint32_t p) { return plain_boolean<frep::unite, ugf::unite>(in, a, p, "unite"); }
+Value fn_subtract(Interp& in, Args a, std::uint32_t p) { return plain_boolean<frep::subtract, ugf::subtract>(in, a, p, "subtract"); }
 
-template <Expr (*F)(Expr, Expr, const ugf::EdgeOptions&)>
+template <Field (*F)(const Field&, const Field&, const ugf::EdgeOptions&)>
 Value edge_boolean(Interp& in, Args a, std::uint32_t pos, std::string_view name) {
   std::size_t n = a.size();
   const ugf::EdgeOptions o = edge_options(in, a, n, pos, name);
   if (n != 2) usage(in, name, a, pos, "(a, b) or (a, b, #{ min_angle })");
-  return Value::expr(F(shape(in, a[0], pos, name, "first shape"), shape(in, a[1], pos, name, "second shape"), o).id());
+  return Value::expr(in.keep(F(field(in, a[0], pos, name, "first shape"), field(in, a[1], pos, name, "second shape"), o)));
 }
 Value fn_intersect_exact(Interp& in, Args a, std::uint32_t p) { return edge_boolean<ugf::intersect_exact>(in, a, p, "intersect_exact"); }
 Value fn_unite_exact(Interp& in, Args a, std::uint32_t p) { return edge_boolean<ugf::unite_exact>(in, a, p, "unite_exact"); }
@@ -168,7 +181,7 @@ Value fn_subtract_right_angle(Interp& in, Args a, std::uint32_t p) { return two_
 // ---------------------------------------------------------------------------------------------
 // Smooth blends: (a, b, k) or (a, b, k, "quadratic" | "cubic" | "exponential" | "root")
 
-template <Expr (*F)(Expr, Expr, float, ugf::Blend)>
+template <Field (*F)(const Field&, const Field&, float, ugf::Blend)>
 Value blend_fn(Interp& in, Args a, std::uint32_t pos, std::string_view name) {
   if (a.size() != 3 && a.size() != 4) usage(in, name, a, pos, "(a, b, k) or (a, b, k, kind)");
   ugf::Blend kind = ugf::Blend::Quadratic;
@@ -182,7 +195,7 @@ Value blend_fn(Interp& in, Args a, std::uint32_t pos, std::string_view name) {
   }
   const float k = number(in, a[2], pos, name, "blend thickness k");
   if (!(k > 0)) in.fail(pos, "`" + std::string(name) + "`: the blend thickness k must be > 0");
-  return Value::expr(F(shape(in, a[0], pos, name, "first shape"), shape(in, a[1], pos, name, "second shape"), k, kind).id());
+  return Value::expr(in.keep(F(field(in, a[0], pos, name, "first shape"), field(in, a[1], pos, name, "second shape"), k, kind)));
 }
 Value fn_smooth_union(Interp& in, Args a, std::uint32_t p) { return blend_fn<ugf::smooth_union>(in, a, p, "smooth_union"); }
 Value fn_smooth_intersection(Interp& in, Args a, std::uint32_t p) { return blend_fn<ugf::smooth_intersection>(in, a, p, "smooth_intersection"); }
@@ -309,10 +322,10 @@ Value fn_pencil_chamfer(Interp& in, Args a, std::uint32_t p) { return pencil_fn(
 // ---------------------------------------------------------------------------------------------
 // Two bodies and clearance
 
-Value fn_two_body(Interp& in, Args a, std::uint32_t p) { return two_shapes<ugf::two_body>(in, a, p, "two_body"); }
-Value fn_two_body_parameter(Interp& in, Args a, std::uint32_t p) { return two_shapes<ugf::two_body_parameter>(in, a, p, "two_body_parameter"); }
-Value fn_midsurface(Interp& in, Args a, std::uint32_t p) { return two_shapes<ugf::midsurface>(in, a, p, "midsurface"); }
-Value fn_clearance_field(Interp& in, Args a, std::uint32_t p) { return two_shapes<ugf::clearance_field>(in, a, p, "clearance_field"); }
+Value fn_two_body(Interp& in, Args a, std::uint32_t p) { return two_exprs<ugf::two_body>(in, a, p, "two_body"); }
+Value fn_two_body_parameter(Interp& in, Args a, std::uint32_t p) { return two_exprs<ugf::two_body_parameter>(in, a, p, "two_body_parameter"); }
+Value fn_midsurface(Interp& in, Args a, std::uint32_t p) { return two_exprs<ugf::midsurface>(in, a, p, "midsurface"); }
+Value fn_clearance_field(Interp& in, Args a, std::uint32_t p) { return two_exprs<ugf::clearance_field>(in, a, p, "clearance_field"); }
 Value fn_between(Interp& in, Args a, std::uint32_t pos) {
   if (a.size() != 3) usage(in, "between", a, pos, "(a, b, t in [-1, 1])");
   const float t = number(in, a[2], pos, "between", "t");
@@ -429,7 +442,7 @@ Value fn_track_sphere(Interp& in, Args a, std::uint32_t pos) {
 Value fn_negate(Interp& in, Args a, std::uint32_t pos) {
   if (a.size() != 1) usage(in, "negate", a, pos, "(shape) or (#{ f, m })");
   if (is_tracked(a[0])) return tracked_value(ugf::negate(tracked(in, a[0], pos, "negate")));
-  return Value::expr((-shape(in, a[0], pos, "negate", "shape")).id());
+  return Value::expr(in.keep(frep::inverse(field(in, a[0], pos, "negate", "shape"))));
 }
 
 // Every call is charged one step per node it adds (the symbolic gradients inside most of them

@@ -5,8 +5,8 @@
 
 #include <cstdint>
 
-#include "io/rhai_ast.hpp"
-#include "io/rhai_value.hpp"
+#include "rhai_ast.hpp"
+#include "rhai_value.hpp"
 
 namespace frep::rhai {
 

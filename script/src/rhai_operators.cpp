@@ -1,11 +1,11 @@
 // Rhai's operators on values (see rhai_operators.hpp).
-#include "io/rhai_operators.hpp"
+#include "rhai_operators.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 
-#include "io/rhai_interp.hpp"
+#include "rhai_interp.hpp"
 
 namespace frep::rhai {
 

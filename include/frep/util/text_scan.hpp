@@ -1,10 +1,9 @@
-// Lexing helpers shared by the library's text readers (.vm, points, mesh formats, TetGen's
-// output): a bounds-checked cursor over text with line tracking, number parsing that never reads
-// past the end, tokens shown safely in messages, and little-endian loads. Private to the library
-// (not installed): util/ is the one module whose private headers the others may include.
+// Lexing helpers shared by every text reader (.vm, points, mesh formats, TetGen's output, the
+// script language): a bounds-checked cursor over text with line tracking, number parsing that
+// never reads past the end, tokens shown safely in messages, and little-endian loads.
 #pragma once
 
-#include "util/parse_number.hpp"
+#include "frep/util/parse_number.hpp"
 
 #include <charconv>
 #include <cmath>

@@ -16,11 +16,12 @@
 
 #include "frep/math/affine.hpp"
 #include "frep/expr/graph.hpp"
-#include "frep/io/rhai.hpp"
-#include "io/rhai_ast.hpp"
-#include "io/rhai_lexer.hpp"
-#include "io/rhai_parser.hpp"
-#include "io/rhai_value.hpp"
+#include "frep/script/rhai.hpp"
+#include "frep/model/field.hpp"
+#include "rhai_ast.hpp"
+#include "rhai_lexer.hpp"
+#include "rhai_parser.hpp"
+#include "rhai_value.hpp"
 
 namespace frep::rhai {
 
@@ -44,10 +45,6 @@ struct Builtin {
 std::span<const Builtin> core_builtins();   // rhai_builtins.cpp
 std::span<const Builtin> shape_builtins();  // rhai_shapes.cpp
 std::span<const Builtin> ugf_builtins();    // rhai_ugf.cpp: the unit gradient field library
-
-// An affine map p -> M p + t (a * b is p -> a(b(p))). Fidget composes chains of affine
-// transforms into one matrix (in f64) before building the expression; so does this reader.
-using Affine = Affine3;
 
 class Interp {
  public:
@@ -84,12 +81,15 @@ class Interp {
   NodeId remap(NodeId e, NodeId x, NodeId y, NodeId z);
   // Fails when the graph plus `more` nodes would pass the node limit.
   void check_nodes(std::uint64_t more);
-  // The expression evaluated at m(p) (Fidget's remap_affine, composing with an affine map that
-  // produced `e`, as Fidget does).
-  NodeId remap_affine(NodeId e, const Affine& m);
-  // sum of c[i] * v[i] + d, skipping zero coefficients, unit factors and a zero offset, as
-  // Fidget's graph builder does when it lowers an affine map or a plane.
-  NodeId linear(const double c[3], double d);
+  // The field a node is, with the facts the modeling library recorded for it (keep); plain
+  // arithmetic records none. Builtins call the library on these and keep what it returns.
+  Field field(NodeId id) const;
+  NodeId keep(const Field& f);
+  // Charges a remap of `copied` one step per node it may copy, and fails before a copy that the
+  // node limit would refuse.
+  void charge_remap(NodeId copied);
+  // The same for an affine transform of `f` (which remaps f's affine source, if it has one).
+  void charge_transform(const Field& f) { charge_remap(f.affine_source != kNoNode ? f.affine_source : f.id()); }
   NodeId var(int axis) const { return axes_[axis]; }
   // Records a shape for `draw`.
   void draw(NodeId shape) { drawn_.push_back(shape); }
@@ -193,7 +193,13 @@ class Interp {
   Value axis_values_[3];
   std::vector<Value> constant_values_;  // Fidget's math constants, by their index
   std::vector<NodeId> drawn_;
-  std::unordered_map<NodeId, std::pair<NodeId, Affine>> affine_of_;  // result -> (source, map)
+  // What the modeling library knows of the nodes it built (FieldInfo, the affine source).
+  struct Facts {
+    FieldInfo info;
+    NodeId affine_source = kNoNode;
+    Affine3 affine;
+  };
+  std::unordered_map<NodeId, Facts> facts_;
   std::function<std::shared_ptr<const Oracle>(const std::string&)> load_mesh_;
   std::unordered_map<std::string, NodeId> meshes_;  // resolved path -> its oracle node
 };

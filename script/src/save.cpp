@@ -1,11 +1,11 @@
-#include "frep/io/save.hpp"
+#include "frep/script/save.hpp"
 
 #include "frep/error.hpp"
 #include "frep/io/frep_file.hpp"
-#include "frep/io/rhai.hpp"
+#include "frep/script/rhai.hpp"
 #include "frep/io/vm.hpp"
 #include "frep/util/atomic_file.hpp"
-#include "util/text_scan.hpp"
+#include "frep/util/text_scan.hpp"
 
 namespace frep {
 namespace {

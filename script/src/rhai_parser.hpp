@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "io/rhai_ast.hpp"
-#include "io/rhai_lexer.hpp"
+#include "rhai_ast.hpp"
+#include "rhai_lexer.hpp"
 
 namespace frep::rhai {
 

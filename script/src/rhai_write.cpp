@@ -19,9 +19,9 @@
 #include <string_view>
 #include <vector>
 
-#include "frep/io/rhai.hpp"
+#include "frep/script/rhai.hpp"
 #include "frep/util/atomic_file.hpp"
-#include "io/field_info.hpp"
+#include "frep/io/field_comments.hpp"
 #include "frep/expr/copy.hpp"
 
 namespace frep {

@@ -6,7 +6,7 @@
 #include "frep/convert/make_solid.hpp"
 #include "frep/convert/mesh_oracle.hpp"
 #include "frep/error.hpp"
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 #include "frep/mesh/mesh_io.hpp"
 #include "frep/mesh/topology.hpp"
 

@@ -1,6 +1,6 @@
 // The Rhai interpreter (see rhai_interp.hpp): statements, expressions, variables and calls.
 // Operators on values are in rhai_operators.cpp, conversions to trees in rhai_tree.cpp.
-#include "io/rhai_interp.hpp"
+#include "rhai_interp.hpp"
 
 #include <filesystem>
 
@@ -10,7 +10,7 @@
 #include <cmath>
 
 #include "frep/error.hpp"
-#include "io/rhai_operators.hpp"
+#include "rhai_operators.hpp"
 
 namespace frep::rhai {
 
@@ -225,7 +225,7 @@ NodeId Interp::run() {
   } catch (const SyntaxError& e) {
     fail(e.pos, e.message);
   }
-  if (!drawn_.empty()) return reduce(Op::Min, drawn_);
+  if (!drawn_.empty()) return reduce(Op::Min, drawn_);  // their union, with its facts
   if (last.kind() == Kind::Unit)
     fail(static_cast<std::uint32_t>(text_.size()),
          "the script produced no shape: end it with the shape's expression or call draw(shape)");

@@ -1,5 +1,4 @@
 // One number parser for every text reader (.vm, point lists, mesh formats, Rhai, TetGen's output).
-// Private to the library (not installed), like util/text_scan.hpp.
 #pragma once
 
 #include <charconv>

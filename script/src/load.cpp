@@ -1,12 +1,12 @@
 // Loading an expression file: .frep by its magic bytes, `.vm` and `.rhai` by extension, anything
 // else by content.
-#include "frep/io/load.hpp"
+#include "frep/script/load.hpp"
 
 #include <string_view>
 
 #include "frep/error.hpp"
 #include "frep/io/frep_file.hpp"
-#include "frep/io/rhai.hpp"
+#include "frep/script/rhai.hpp"
 #include "frep/io/vm.hpp"
 #include "frep/util/atomic_file.hpp"
 

@@ -1,5 +1,5 @@
 // Rhai values: type names, text, equality and copy on write (see rhai_value.hpp).
-#include "io/rhai_value.hpp"
+#include "rhai_value.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -1,5 +1,5 @@
 // The Rhai parser (see rhai_parser.hpp). Operator precedences are Rhai's (its book's table).
-#include "io/rhai_parser.hpp"
+#include "rhai_parser.hpp"
 
 namespace frep::rhai {
 

@@ -1,7 +1,8 @@
-// FieldInfo in the text formats (private to the readers and writers): leading comments that
+// FieldInfo in the text formats (.vm, and Rhai in the script layer): leading comments that
 // Fidget ignores, one per known fact,
 //   # frep: lipschitz 1 (|f(p) - f(q)| <= 1 |p - q|)
 //   # frep: bounds x0 y0 z0 x1 y1 z1 (every point where the field is negative)
+//   # frep: growth box|distance (how far small values reach beyond the bounds: FieldInfo::growth)
 // with `//` instead of `#` in Rhai. Only comments before the first other line count.
 #pragma once
 
@@ -12,7 +13,7 @@
 
 #include "frep/error.hpp"
 #include "frep/expr/model.hpp"
-#include "util/text_scan.hpp"
+#include "frep/util/text_scan.hpp"
 
 namespace frep::detail {
 
@@ -33,6 +34,9 @@ inline std::string field_info_comments(const FieldInfo& info, std::string_view c
       }
     out += " (every point where the field is negative)\n";
   }
+  if (!info.bounds.empty() && info.growth != Growth::Unknown)
+    out += std::string(comment) + (info.growth == Growth::Box ? " frep: growth box (where f < t >= 0 lies in the bounds grown by t)\n"
+                                                                : " frep: growth distance (f is at least the distance to its inside)\n");
   return out;
 }
 
@@ -82,8 +86,14 @@ inline FieldInfo leading_field_info(std::string_view text, std::string_view comm
       const Box3 b{{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
       if (b.empty()) throw InputError(name, line, "bad 'frep: bounds' comment: the box is empty (x0 > x1, y0 > y1 or z0 > z1)");
       info.bounds = b;
+    } else if (key == "growth") {
+      const std::string_view t = token(l);
+      if (t == "box") info.growth = Growth::Box;
+      else if (t == "distance") info.growth = Growth::Distance;
+      else throw InputError(name, line, "bad 'frep: growth' comment: expected box or distance, got " + quoted(t));
     }
   }
+  if (info.bounds.empty()) info.growth = Growth::Unknown;  // growth is about the bounds
   return info;
 }
 

@@ -36,7 +36,10 @@
 #include <cmath>
 #include <utility>
 
-#include "io/rhai_interp.hpp"
+#include "frep/model/csg.hpp"
+#include "frep/model/shapes.hpp"
+#include "frep/model/transform.hpp"
+#include "rhai_interp.hpp"
 
 namespace frep::rhai {
 
@@ -62,7 +65,7 @@ struct FV {
   std::vector<NodeId> trees;
 };
 
-struct Field {
+struct FieldDef {
   std::string_view name;
   FT type;
   bool has_default = false;
@@ -74,7 +77,7 @@ using Build = NodeId (*)(Interp& in, const std::vector<FV>& f, std::uint32_t pos
 struct ShapeDef {
   std::string_view name;   // the Rhai function
   std::string_view title;  // Fidget's struct name, for messages
-  std::array<Field, 4> fields;
+  std::array<FieldDef, 4> fields;
   int count;
   Build build;
 };
@@ -203,7 +206,7 @@ bool to_plane(Interp& in, const Value& v, double* out, std::uint32_t pos) {
 }
 
 // Converts to a field's type (maps, transforms): false if the value does not convert.
-bool convert(Interp& in, const Value& v, const Field& f, FV& out, std::uint32_t pos) {
+bool convert(Interp& in, const Value& v, const FieldDef& f, FV& out, std::uint32_t pos) {
   out.type = f.type;
   switch (f.type) {
     case FT::Float: return to_float(v, out.v[0]);
@@ -232,7 +235,7 @@ bool classify(Interp& in, const Value& v, FV& out, std::uint32_t pos) {
   return true;
 }
 
-FV default_of(const Field& f) {
+FV default_of(const FieldDef& f) {
   FV r;
   r.type = f.type;
   for (int i = 0; i < 4; ++i) r.v[i] = f.d[i];
@@ -268,13 +271,13 @@ Value call_shape(const ShapeDef& s, Interp& in, Args a, std::uint32_t pos) {
   for (int c : type_count) unique &= c <= 1;
 
   std::vector<FV> f(static_cast<std::size_t>(n));
-  auto bad_field = [&](const Field& fd, const Value& v) {
+  auto bad_field = [&](const FieldDef& fd, const Value& v) {
     in.fail(pos, "`" + std::string(s.name) + "`: field `" + std::string(fd.name) + "` must be " + ft_name(fd.type) +
                      ", not " + type_name(v));
   };
   auto from_map = [&](const MapObj& m, int first) {
     for (int i = first; i < n; ++i) {
-      const Field& fd = s.fields[i];
+      const FieldDef& fd = s.fields[i];
       auto it = m.items.find(fd.name);
       if (it != m.items.end()) {
         if (!convert(in, it->second, fd, f[i], pos)) bad_field(fd, it->second);
@@ -327,7 +330,7 @@ Value call_shape(const ShapeDef& s, Interp& in, Args a, std::uint32_t pos) {
       return std::move(slot[static_cast<int>(t)]);
     };
     for (int i = 0; i < n; ++i) {
-      const Field& fd = s.fields[i];
+      const FieldDef& fd = s.fields[i];
       const int t = static_cast<int>(fd.type);
       if (have[t]) {
         f[i] = take(fd.type);
@@ -373,167 +376,83 @@ Value call_shape(const ShapeDef& s, Interp& in, Args a, std::uint32_t pos) {
 // ---------------------------------------------------------------------------------------------
 // The shapes
 
-NodeId C(Interp& in, double v) { return in.constant(v); }
-NodeId add(Interp& in, NodeId a, NodeId b) { return in.binary(Op::Add, a, b); }
-NodeId sub(Interp& in, NodeId a, NodeId b) { return in.binary(Op::Sub, a, b); }
-NodeId mul(Interp& in, NodeId a, NodeId b) { return in.binary(Op::Mul, a, b); }
-NodeId mx(Interp& in, NodeId a, NodeId b) { return in.binary(Op::Max, a, b); }
-NodeId sq(Interp& in, NodeId a) { return in.unary(Op::Square, a); }
+// Each shape calls the modeling library (frep/model/*.hpp): no formulas here.
+
+Vec3 vec3(const FV& f) { return {f.v[0], f.v[1], f.v[2]}; }
 
 NodeId build_circle(Interp& in, const std::vector<FV>& f, std::uint32_t) {
-  const NodeId dx = sub(in, in.var(0), C(in, f[0].v[0])), dy = sub(in, in.var(1), C(in, f[0].v[1]));
-  return sub(in, in.unary(Op::Sqrt, add(in, sq(in, dx), sq(in, dy))), C(in, f[1].v[0]));
+  return in.keep(frep::circle(in.graph(), f[0].v[0], f[0].v[1], f[1].v[0]));
 }
-
 NodeId build_sphere(Interp& in, const std::vector<FV>& f, std::uint32_t) {
-  NodeId d[3];
-  for (int i = 0; i < 3; ++i) d[i] = sq(in, sub(in, in.var(i), C(in, f[0].v[i])));
-  return sub(in, in.unary(Op::Sqrt, add(in, add(in, d[0], d[1]), d[2])), C(in, f[1].v[0]));
+  return in.keep(frep::sphere(in.graph(), vec3(f[0]), f[1].v[0]));
 }
-
-// max(lower - p, p - upper) per axis, combined with max.
-NodeId build_box_n(Interp& in, const std::vector<FV>& f, int dims) {
-  NodeId r = kNoNode;
-  for (int i = 0; i < dims; ++i) {
-    const NodeId p = in.var(i);
-    const NodeId side = mx(in, sub(in, C(in, f[0].v[i]), p), sub(in, p, C(in, f[1].v[i])));
-    r = r == kNoNode ? side : mx(in, r, side);
-  }
-  return r;
+NodeId build_rectangle(Interp& in, const std::vector<FV>& f, std::uint32_t) {
+  return in.keep(frep::rectangle(in.graph(), f[0].v[0], f[0].v[1], f[1].v[0], f[1].v[1]));
 }
-NodeId build_rectangle(Interp& in, const std::vector<FV>& f, std::uint32_t) { return build_box_n(in, f, 2); }
-NodeId build_box(Interp& in, const std::vector<FV>& f, std::uint32_t) { return build_box_n(in, f, 3); }
+NodeId build_box(Interp& in, const std::vector<FV>& f, std::uint32_t) {
+  return in.keep(frep::box(in.graph(), vec3(f[0]), vec3(f[1])));
+}
 
 NodeId build_union(Interp& in, const std::vector<FV>& f, std::uint32_t) { return in.reduce(Op::Min, f[0].trees); }
 NodeId build_intersection(Interp& in, const std::vector<FV>& f, std::uint32_t) { return in.reduce(Op::Max, f[0].trees); }
-NodeId build_inverse(Interp& in, const std::vector<FV>& f, std::uint32_t) { return in.unary(Op::Neg, f[0].tree); }
+NodeId build_inverse(Interp& in, const std::vector<FV>& f, std::uint32_t) { return in.keep(frep::inverse(in.field(f[0].tree))); }
 NodeId build_difference(Interp& in, const std::vector<FV>& f, std::uint32_t) {
-  return mx(in, f[0].tree, in.unary(Op::Neg, f[1].tree));
+  return in.keep(frep::subtract(in.field(f[0].tree), in.field(f[1].tree)));
 }
-
 NodeId build_blend(Interp& in, const std::vector<FV>& f, std::uint32_t) {
-  const NodeId a = f[0].tree, b = f[1].tree;
-  const double r = f[2].v[0];
-  const NodeId m = in.binary(Op::Min, a, b);
-  if (!(r > 0)) return m;
-  const NodeId gap = mx(in, sub(in, C(in, r), in.unary(Op::Abs, sub(in, a, b))), C(in, 0));
-  return sub(in, m, mul(in, C(in, 1.0 / (4.0 * r)), sq(in, gap)));
+  return in.keep(frep::blend(in.field(f[0].tree), in.field(f[1].tree), f[2].v[0]));
 }
 
-Affine translation(double x, double y, double z) {
-  Affine m = Affine::identity();
-  m.m[0][3] = x;
-  m.m[1][3] = y;
-  m.m[2][3] = z;
-  return m;
+// The transforms remap their shape: charged for the nodes they may copy, before copying.
+template <class Fn>
+NodeId transformed(Interp& in, NodeId tree, Fn&& fn) {
+  const frep::Field shape = in.field(tree);
+  in.charge_transform(shape);
+  return in.keep(fn(shape));
 }
 
 NodeId build_move(Interp& in, const std::vector<FV>& f, std::uint32_t) {
-  return in.remap_affine(f[0].tree, translation(-f[1].v[0], -f[1].v[1], -f[1].v[2]));
+  return transformed(in, f[0].tree, [&](const frep::Field& s) { return frep::move(s, vec3(f[1])); });
 }
-
 NodeId build_scale(Interp& in, const std::vector<FV>& f, std::uint32_t) {
-  Affine m = Affine::identity();
-  for (int i = 0; i < 3; ++i) m.m[i][i] = 1.0 / f[1].v[i];
-  return in.remap_affine(f[0].tree, m);
+  return transformed(in, f[0].tree, [&](const frep::Field& s) { return frep::scale(s, vec3(f[1])); });
 }
-
 NodeId build_scale_uniform(Interp& in, const std::vector<FV>& f, std::uint32_t) {
-  const double s = 1.0 / f[1].v[0];
-  Affine m = Affine::identity();
-  for (int i = 0; i < 3; ++i) m.m[i][i] = s;
-  return in.remap_affine(f[0].tree, m);
+  const double k = f[1].v[0];
+  return transformed(in, f[0].tree, [&](const frep::Field& s) { return frep::scale(s, {k, k, k}); });
 }
-
-NodeId reflect(Interp& in, NodeId shape, const double* axis, double offset) {
-  // d = a.x x + a.y y + a.z z - offset; the shape at p - 2 d a.
-  double plane[4] = {axis[0], axis[1], axis[2], offset};
-  const NodeId d = in.to_expr(Value::heap(new PlaneObj(plane, plane[3])), 0, "the plane");
-  const NodeId scale = mul(in, C(in, 2.0), d);
-  NodeId p[3];
-  for (int i = 0; i < 3; ++i) {
-    if (axis[i] == 0) p[i] = in.var(i);
-    else p[i] = sub(in, in.var(i), axis[i] == 1 ? scale : mul(in, scale, C(in, axis[i])));
-  }
-  return in.remap(shape, p[0], p[1], p[2]);
+NodeId build_reflect(Interp& in, const std::vector<FV>& f, std::uint32_t) {
+  return transformed(in, f[0].tree, [&](const frep::Field& s) { return frep::reflect(s, vec3(f[1]), f[1].v[3]); });
 }
-
-NodeId build_reflect(Interp& in, const std::vector<FV>& f, std::uint32_t) { return reflect(in, f[0].tree, f[1].v, f[1].v[3]); }
 template <int AXIS>
 NodeId build_reflect_axis(Interp& in, const std::vector<FV>& f, std::uint32_t) {
-  double a[3] = {0, 0, 0};
+  Vec3 a{0, 0, 0};
   a[AXIS] = 1;
-  return reflect(in, f[0].tree, a, f[1].v[0]);
+  return transformed(in, f[0].tree, [&](const frep::Field& s) { return frep::reflect(s, a, f[1].v[0]); });
 }
-
-// nalgebra's Rotation3::new(scaled axis): angle |v|, axis v / |v|, Rodrigues' matrix.
-Affine rotation(const double* axis, double angle_deg) {
-  const double d = -(angle_deg * (3.14159265358979323846 / 180.0));
-  double v[3] = {d * axis[0], d * axis[1], d * axis[2]};
-  const double norm = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  Affine r = Affine::identity();
-  if (!(norm > 0)) return r;
-  const double ux = v[0] / norm, uy = v[1] / norm, uz = v[2] / norm;
-  const double s = std::sin(norm), c = std::cos(norm), t = 1 - c;
-  r.m[0][0] = ux * ux + (1 - ux * ux) * c;
-  r.m[0][1] = ux * uy * t - uz * s;
-  r.m[0][2] = ux * uz * t + uy * s;
-  r.m[1][0] = ux * uy * t + uz * s;
-  r.m[1][1] = uy * uy + (1 - uy * uy) * c;
-  r.m[1][2] = uy * uz * t - ux * s;
-  r.m[2][0] = ux * uz * t - uy * s;
-  r.m[2][1] = uy * uz * t + ux * s;
-  r.m[2][2] = uz * uz + (1 - uz * uz) * c;
-  return r;
-}
-
-NodeId rotate(Interp& in, NodeId shape, const double* axis, double angle, const double* center) {
-  // Move(-center), rotate by -angle, move(+center): three affine remaps, composed as in Fidget.
-  NodeId e = in.remap_affine(shape, translation(center[0], center[1], center[2]));
-  e = in.remap_affine(e, rotation(axis, angle));
-  return in.remap_affine(e, translation(-center[0], -center[1], -center[2]));
-}
-
 NodeId build_rotate(Interp& in, const std::vector<FV>& f, std::uint32_t) {
-  return rotate(in, f[0].tree, f[1].v, f[2].v[0], f[3].v);
+  return transformed(in, f[0].tree, [&](const frep::Field& s) { return frep::rotate(s, vec3(f[1]), f[2].v[0], vec3(f[3])); });
 }
 template <int AXIS>
 NodeId build_rotate_axis(Interp& in, const std::vector<FV>& f, std::uint32_t) {
-  double a[3] = {0, 0, 0};
+  Vec3 a{0, 0, 0};
   a[AXIS] = 1;
-  return rotate(in, f[0].tree, a, f[1].v[0], f[2].v);
+  return transformed(in, f[0].tree, [&](const frep::Field& s) { return frep::rotate(s, a, f[1].v[0], vec3(f[2])); });
 }
-
 NodeId build_revolve_y(Interp& in, const std::vector<FV>& f, std::uint32_t) {
-  const double off = f[1].v[0];
-  const NodeId moved = in.remap_affine(f[0].tree, translation(-off, 0, 0));
-  const NodeId r = in.unary(Op::Sqrt, add(in, sq(in, in.var(0)), sq(in, in.var(1))));
-  const NodeId revolved = in.remap(moved, r, in.var(1), in.var(2));
-  return in.remap_affine(revolved, translation(off, 0, 0));
+  return transformed(in, f[0].tree, [&](const frep::Field& s) { return frep::revolve_y(s, f[1].v[0]); });
 }
-
-NodeId slab_z(Interp& in, double lower, double upper) {
-  const NodeId z = in.var(2);
-  return mx(in, sub(in, C(in, lower), z), sub(in, z, C(in, upper)));
-}
-
 NodeId build_extrude_z(Interp& in, const std::vector<FV>& f, std::uint32_t) {
-  const NodeId t = in.remap(f[0].tree, in.var(0), in.var(1), C(in, 0));
-  return mx(in, t, slab_z(in, f[1].v[0], f[2].v[0]));
+  return transformed(in, f[0].tree, [&](const frep::Field& s) { return frep::extrude_z(s, f[1].v[0], f[2].v[0]); });
 }
-
 NodeId build_loft_z(Interp& in, const std::vector<FV>& f, std::uint32_t) {
-  const double lower = f[2].v[0], upper = f[3].v[0];
-  const NodeId ta = in.remap(f[0].tree, in.var(0), in.var(1), C(in, 0));
-  const NodeId tb = in.remap(f[1].tree, in.var(0), in.var(1), C(in, 0));
-  const NodeId z = in.var(2);
-  const NodeId t = in.binary(Op::Div, add(in, mul(in, sub(in, z, C(in, lower)), tb), mul(in, sub(in, C(in, upper), z), ta)),
-                             C(in, upper - lower));
-  return mx(in, t, slab_z(in, lower, upper));
+  const frep::Field b = in.field(f[1].tree);
+  in.charge_transform(b);
+  return transformed(in, f[0].tree, [&](const frep::Field& a) { return frep::loft_z(a, b, f[2].v[0], f[3].v[0]); });
 }
 
-constexpr Field req(std::string_view n, FT t) { return {n, t, false, {0, 0, 0, 0}}; }
-constexpr Field opt(std::string_view n, FT t, double a, double b = 0, double c = 0, double d = 0) {
+constexpr FieldDef req(std::string_view n, FT t) { return {n, t, false, {0, 0, 0, 0}}; }
+constexpr FieldDef opt(std::string_view n, FT t, double a, double b = 0, double c = 0, double d = 0) {
   return {n, t, true, {a, b, c, d}};
 }
 

@@ -1,10 +1,10 @@
-// Reading Rhai scripts into a Model: the entry points of include/frep/io/rhai.hpp; the lexer,
+// Reading Rhai scripts into a Model: the entry points of include/frep/script/rhai.hpp; the lexer,
 // parser, interpreter, builtins and shape library live in the other rhai_*.cpp files.
-#include "frep/io/rhai.hpp"
+#include "frep/script/rhai.hpp"
 
 #include "frep/util/atomic_file.hpp"
-#include "io/rhai_interp.hpp"
-#include "io/field_info.hpp"
+#include "rhai_interp.hpp"
+#include "frep/io/field_comments.hpp"
 
 namespace frep {
 
@@ -13,7 +13,15 @@ Model parse_rhai(std::string_view text, const std::string& name, const RhaiOptio
   Model m;
   rhai::Interp interp(text, name, options, *m.graph);
   m.root = interp.run();
+  // The script's own `frep:` comments say what its author knows; the modeling library's facts
+  // fill in what they leave unknown.
   m.info = detail::leading_field_info(text, "//", name);
+  const FieldInfo built = interp.field(m.root).info;
+  if (!(m.info.lipschitz > 0)) m.info.lipschitz = built.lipschitz;
+  if (m.info.bounds.empty()) {
+    m.info.bounds = built.bounds;
+    m.info.growth = built.growth;
+  }
   return m;
 }
 

@@ -7,9 +7,9 @@
 #include <limits>
 
 #include "frep/expr/semantics.hpp"
-#include "io/rhai_interp.hpp"
-#include "io/rhai_operators.hpp"
-#include "util/parse_number.hpp"
+#include "rhai_interp.hpp"
+#include "rhai_operators.hpp"
+#include "frep/util/parse_number.hpp"
 
 namespace frep::rhai {
 

@@ -1,12 +1,12 @@
 // The Rhai lexer (see rhai_lexer.hpp).
-#include "io/rhai_lexer.hpp"
+#include "rhai_lexer.hpp"
 
 #include <array>
 #include <charconv>
 #include <cstdio>
 #include <cstring>
 
-#include "util/parse_number.hpp"
+#include "frep/util/parse_number.hpp"
 
 namespace frep::rhai {
 
