@@ -1,8 +1,8 @@
 // frep clearance: the gap between two bodies, or how deep they interfere, and where: the minimum
 // of S = A + B over space (docs/ugf.md, "Two bodies and clearance"), found by ugf::find_clearance.
-// Two meshes are compared as meshes (frep/mesh/mesh_pair.hpp): the gap between them is their
-// exact surface distance, which boxes could not prove (S is constant along the whole shortest
-// segment); the interval search is left with the interference depth only.
+// Two meshes are compared as meshes (frep/ugf/mesh_clearance.hpp): the gap between them is their
+// exact surface distance; the interval search is left with the interference depth only. This file
+// parses the arguments, reports progress and prints what the library found.
 #include <fmt/core.h>
 
 #include <unistd.h>
@@ -10,56 +10,20 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <vector>
 
 #include "commands.hpp"
 #include "field_output.hpp"
 #include "input.hpp"
 #include "frep/error.hpp"
 #include "frep/convert/mesh_oracle.hpp"
-#include "frep/eval/evaluators.hpp"
+#include "frep/eval/tape.hpp"
 #include "frep/expr/copy.hpp"
 #include "frep/mesh/mesh_pair.hpp"
 #include "frep/ugf/clearance.hpp"
+#include "frep/ugf/mesh_clearance.hpp"
 
 namespace frep::cli {
 namespace {
-
-// The point of F's surface nearest p, for a signed distance F: p - F(p) grad F / |grad F|.
-Vec3 project(const Tape& t, const Vec3f& p) {
-  GradEvaluator ge;
-  const Grad g = ge.eval(t, p.x, p.y, p.z);
-  const double n = std::sqrt(double(g.dx) * g.dx + double(g.dy) * g.dy + double(g.dz) * g.dz);
-  if (!(n > 0) || !std::isfinite(n)) return Vec3(p);
-  const double k = g.v / n;
-  return {p.x - k * g.dx, p.y - k * g.dy, p.z - k * g.dz};
-}
-
-// A point inside both bodies from the minimizer p of A + B. That sum is constant along the whole
-// deepest segment, so p may lie anywhere on it, even outside one body: moving along A's gradient
-// by (B - A) / 2 evens the two depths (exact for signed distances). Falls back on the middle of
-// the two surface points; `inside` says whether the point found is inside both.
-Vec3 deepest_point(const Tape& ta, const Tape& tb, const Vec3f& p, bool& inside) {
-  GradEvaluator ge;
-  PointEvaluator pe;
-  const auto in_both = [&](const Vec3& q) {
-    const float x = float(q.x), y = float(q.y), z = float(q.z);
-    return pe.eval(ta, x, y, z) < 0 && pe.eval(tb, x, y, z) < 0;
-  };
-  inside = true;
-  const Grad ga = ge.eval(ta, p.x, p.y, p.z);
-  const float vb = pe.eval(tb, p.x, p.y, p.z);
-  const double n = std::sqrt(double(ga.dx) * ga.dx + double(ga.dy) * ga.dy + double(ga.dz) * ga.dz);
-  if (n > 0 && std::isfinite(n) && std::isfinite(vb)) {
-    const double s = (double(vb) - ga.v) / 2 / n;
-    const Vec3 q{p.x + s * ga.dx, p.y + s * ga.dy, p.z + s * ga.dz};
-    if (in_both(q)) return q;
-  }
-  const Vec3 mid = (project(ta, p) + project(tb, p)) * 0.5;
-  if (in_both(mid)) return mid;
-  inside = in_both(Vec3(p));
-  return Vec3(p);
-}
 
 std::string fmt_point(const Vec3& p) { return fmt::format("{:.6g}, {:.6g}, {:.6g}", p.x, p.y, p.z); }
 // Exact results get all the digits a double needs to round-trip.
@@ -85,16 +49,13 @@ struct Args {
   FieldOutputOptions region;  // only its bounds: the region searched
 };
 
-// The interval search for the minimum of A + B over `box`, with progress on stderr for long runs
-// (after the first second: a line rewritten in place about every second on a terminal, a new
-// line every 5 s otherwise), unless quiet.
-ugf::ClearanceResult search(const Args& a, const Model& ma, NodeId b_root, const Box3& box, std::vector<Vec3f> seeds,
-                           double lipschitz = 0) {
-  ugf::ClearanceOptions o;
-  o.lipschitz = lipschitz;
+// The interval search for the minimum of A + B over `box` (`o`: its seeds and Lipschitz bound),
+// with progress on stderr for long runs (after the first second: a line rewritten in place about
+// every second on a terminal, a new line every 5 s otherwise), unless quiet.
+ugf::ClearanceResult search(const Args& a, const Model& ma, NodeId b_root, const Box3& box,
+                            ugf::ClearanceOptions o = {}) {
   o.tolerance = static_cast<float>(a.tolerance);
   o.max_boxes = a.max_boxes;
-  o.seeds = std::move(seeds);
   const auto t0 = std::chrono::steady_clock::now();
   const bool tty = ::isatty(STDERR_FILENO) != 0;
   const double every = tty ? 1.0 : 5.0;
@@ -123,11 +84,11 @@ ugf::ClearanceResult search(const Args& a, const Model& ma, NodeId b_root, const
 // The interference found by the search: the depth, the deepest point (inside both) and where.
 void print_interference(const Args& a, const Tape& ta, const Tape& tb, const ugf::ClearanceResult& r, const char* shallow) {
   fmt::print("interference: depth {:.7g}{}\n", std::max(0.0f, -r.value), -r.value <= a.tolerance ? shallow : "");
-  bool inside = false;
-  const Vec3 q = deepest_point(ta, tb, {r.x, r.y, r.z}, inside);
-  const Vec3f qf(q);
-  fmt::print("deepest point: {} ({}; {} on {}, {} on {})\n", fmt_point(q), inside ? "inside both" : "where A + B is smallest",
-             fmt_point(project(ta, qf)), a.a, fmt_point(project(tb, qf)), a.b);
+  const ugf::DeepestPoint d = ugf::deepest_point(ta, tb, {r.x, r.y, r.z});
+  const Vec3f qf(d.point);
+  fmt::print("deepest point: {} ({}; {} on {}, {} on {})\n", fmt_point(d.point),
+             d.inside_both ? "inside both" : "where A + B is smallest", fmt_point(ugf::project_to_surface(ta, qf)), a.a,
+             fmt_point(ugf::project_to_surface(tb, qf)), a.b);
 }
 
 // The value is attained at the point printed; the interval bound proves nothing smaller was
@@ -136,7 +97,7 @@ void print_interference(const Args& a, const Tape& ta, const Tape& tb, const ugf
 void print_bound(const Args& a, const ugf::ClearanceResult& r) {
   // Within the tolerance (as the search compared it, in float) once it converged; otherwise it
   // ran out of boxes, or was left with boxes too small to split in float.
-  const bool close = r.converged && r.value - r.lower_bound <= a.tolerance * (1 + 1e-6) + 1e-7 * std::fabs(r.value);
+  const bool close = r.within_tolerance(a.tolerance);
   const char* why = close         ? ""
                     : r.stopped     ? "; the minimum lies between it and the value above (stopped at --time-limit)"
                     : r.boxes >= a.max_boxes
@@ -161,7 +122,6 @@ void mesh_clearance(const Args& a, const Model& ma, NodeId b_root, const Tape& t
                triangle_name(fa, pr.triangle_a, a.a), triangle_name(fb, pr.triangle_b, a.b), pr.seconds);
     return;
   }
-  std::vector<Vec3f> seeds;
   if (pr.surfaces_meet()) {
     const MeshPairContactExample& ex = pr.examples.front();
     const char* kind = ex.kind == PairContact::Cross ? "cross" : ex.kind == PairContact::Overlap ? "overlap" : "touch";
@@ -171,7 +131,6 @@ void mesh_clearance(const Args& a, const Model& ma, NodeId b_root, const Tape& t
       fmt::print("surfaces touch: {} triangle pairs meet, none crossing", pr.overlapping + pr.touching);
     fmt::print(" (first: {} and {} {} at {})\n", triangle_name(fa, ex.a, a.a), triangle_name(fb, ex.b, a.b), kind,
                fmt_point(ex.point));
-    for (const MeshPairContactExample& e : pr.examples) seeds.push_back(Vec3f(e.point));
   } else {
     const auto nested = [&](std::size_t inside, std::size_t shells, const std::string& inner, const std::string& outer) {
       if (inside == 0) return;
@@ -182,24 +141,13 @@ void mesh_clearance(const Args& a, const Model& ma, NodeId b_root, const Tape& t
     };
     nested(pr.a_shells_inside_b, pr.a_shells, a.a, a.b);
     nested(pr.b_shells_inside_a, pr.b_shells, a.b, a.a);
-    // The point of one surface nearest the other lies inside it: a good start for the search.
-    seeds.push_back(Vec3f(pr.a_shells_inside_b > 0 ? pr.point_a : pr.point_b));
   }
-  // The shared volume, and the deepest point in it, lie in both bounding boxes.
-  Box3 box;
-  if (a.region.bounds.empty()) {
-    box = {max(box_a.lo, box_b.lo), min(box_a.hi, box_b.hi)};
-    const double pad = 1e-3 * length(box.size());
-    box = box.inflated(pad);
-  } else {
-    box = box_a;  // the given bounds (input_region returns them for both)
-  }
-  // Two meshes in place are two exact distances: S is 2-Lipschitz, and one evaluation of each
-  // at a box's centre bounds the box (as their interval bounds would, at half the cost). Moved
-  // ones keep interval bounds, which allow for the rounding of the moved points.
-  const double lipschitz = map_a.is_identity() && map_b.is_identity() ? 2 : 0;
-  const ugf::ClearanceResult r = search(a, ma, b_root, box, std::move(seeds), lipschitz);
-  if (pr.crossing == 0 && pr.a_shells_inside_b == 0 && pr.b_shells_inside_a == 0 && -r.value <= a.tolerance) {
+  // The shared volume, and the deepest point in it, lie in both bounding boxes; given bounds are
+  // box_a (input_region returns them for both).
+  const Box3 box = a.region.bounds.empty() ? ugf::shared_region(box_a, box_b) : box_a;
+  const ugf::ClearanceResult r =
+      search(a, ma, b_root, box, ugf::mesh_interference_options(pr, map_a.is_identity() && map_b.is_identity()));
+  if (ugf::only_touching(pr, r, a.tolerance)) {
     // Touching, and no shared volume deeper than the tolerance found.
     const Vec3& p = pr.examples.front().point;
     fmt::print("gap: 0 (the surfaces touch; no interference deeper than --tolerance found)\n");
@@ -255,11 +203,12 @@ void register_clearance(CLI::App& app) {
     // in the box around both.
     Box3 box = box_a;
     box.add(box_b);
-    const ugf::ClearanceResult r = search(*a, ma, b_root, box, {});
+    const ugf::ClearanceResult r = search(*a, ma, b_root, box);
     if (r.value >= 0) {
       const Vec3f p{r.x, r.y, r.z};
       fmt::print("gap: {:.7g}\n", r.value);
-      fmt::print("nearest points: {} on {}, {} on {}\n", fmt_point(project(ta, p)), a->a, fmt_point(project(tb, p)), a->b);
+      fmt::print("nearest points: {} on {}, {} on {}\n", fmt_point(ugf::project_to_surface(ta, p)), a->a,
+                 fmt_point(ugf::project_to_surface(tb, p)), a->b);
     } else {
       print_interference(*a, ta, tb, r, " (within --tolerance: touching)");
     }

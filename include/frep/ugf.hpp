@@ -11,6 +11,7 @@
 #include "frep/ugf/edge_frame.hpp"
 #include "frep/ugf/gyroid.hpp"
 #include "frep/ugf/medial.hpp"
+#include "frep/ugf/mesh_clearance.hpp"
 #include "frep/ugf/normalize.hpp"
 #include "frep/ugf/offset.hpp"
 #include "frep/ugf/pencil.hpp"

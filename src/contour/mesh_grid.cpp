@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "eval/ssa_builder.hpp"
 #include "frep/error.hpp"
 
 namespace frep::contour {
@@ -61,22 +62,19 @@ MeshGrid make_grid(const Box3& region, double h, int margin, double shift) {
 }
 
 Tape close_at_box(const Tape& tape, const Box3& box) {
-  std::vector<SsaInstr> s(tape.ssa().begin(), tape.ssa().end());
-  const auto root = static_cast<std::uint32_t>(s.size() - 1);
-  auto push = [&](Op op, std::uint32_t a = 0, std::uint32_t b = 0, float v = 0) {
-    s.push_back(SsaInstr{op, a, b, v});
-    return static_cast<std::uint32_t>(s.size() - 1);
-  };
-  std::uint32_t d = 0;
+  SsaBuilder ssa;
+  const SsaBuilder::Vars xyz = ssa.variables();
+  const SsaBuilder::Ref f = ssa.append(tape, xyz);
+  SsaBuilder::Ref d = 0;
   for (int a = 0; a < 3; ++a) {
-    const std::uint32_t v = push(static_cast<Op>(static_cast<int>(Op::VarX) + a));
-    const std::uint32_t lo = push(Op::Const, 0, 0, static_cast<float>(box.lo[a]));
-    const std::uint32_t hi = push(Op::Const, 0, 0, static_cast<float>(box.hi[a]));
-    const std::uint32_t m = push(Op::Max, push(Op::Sub, lo, v), push(Op::Sub, v, hi));
-    d = a == 0 ? m : push(Op::Max, d, m);
+    const SsaBuilder::Ref lo = ssa.constant(static_cast<float>(box.lo[a]));
+    const SsaBuilder::Ref hi = ssa.constant(static_cast<float>(box.hi[a]));
+    const SsaBuilder::Ref below = ssa.emit(Op::Sub, lo, xyz[a]);
+    const SsaBuilder::Ref above = ssa.emit(Op::Sub, xyz[a], hi);
+    const SsaBuilder::Ref m = ssa.emit(Op::Max, below, above);
+    d = a == 0 ? m : ssa.emit(Op::Max, d, m);
   }
-  push(Op::Max, root, d);
-  return Tape::from_ssa(s, tape.oracles());
+  return ssa.finish(ssa.emit(Op::Max, f, d), tape.oracles());
 }
 
 }  // namespace frep::contour

@@ -2,9 +2,9 @@
 // instructions with their variables replaced, then (for rotated views) the cut at the bounds.
 #include "view_tape.hpp"
 
+#include "eval/ssa_builder.hpp"
 #include "frep/expr/oracle.hpp"
 
-#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -13,36 +13,22 @@
 namespace frep {
 
 Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
-  std::vector<SsaInstr> ssa;
-  auto emit = [&](Op op, std::uint32_t a = 0, std::uint32_t b = 0, float value = 0) {
-    ssa.push_back({op, a, b, value});
-    return static_cast<std::uint32_t>(ssa.size() - 1);
-  };
-  const std::uint32_t uvw[3] = {emit(Op::VarX), emit(Op::VarY), emit(Op::VarZ)};
-  // c0 u + c1 v + c2 w + c3 with the coefficients rounded to float: zero terms dropped and +-1
-  // without a multiplication (so axis-aligned views stay exact).
+  SsaBuilder ssa;
+  const SsaBuilder::Vars uvw = ssa.variables();
+  // c0 u + c1 v + c2 w + c3 with the coefficients rounded to float (SsaBuilder::affine keeps
+  // axis-aligned views exact).
   const auto emit_linear = [&](const double (&c)[4]) {
-    std::uint32_t sum = 0;
-    bool any = false;
-    for (int k = 0; k < 3; ++k) {
-      const float ck = static_cast<float>(c[k]);
-      if (ck == 0) continue;
-      const std::uint32_t term = ck == 1    ? uvw[k]
-                                 : ck == -1 ? emit(Op::Neg, uvw[k])
-                                            : emit(Op::Mul, emit(Op::Const, 0, 0, ck), uvw[k]);
-      sum = any ? emit(Op::Add, sum, term) : term;
-      any = true;
-    }
-    const float c3 = static_cast<float>(c[3]);
-    if (!any) return emit(Op::Const, 0, 0, c3);
-    return c3 == 0 ? sum : emit(Op::Add, sum, emit(Op::Const, 0, 0, c3));
+    return ssa.affine({static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2]),
+                       static_cast<float>(c[3])},
+                      uvw);
   };
   // Model axis `axis` minus its center, and the model variable itself.
-  std::uint32_t rel[3], model_var[3];
+  std::uint32_t rel[3];
+  SsaBuilder::Vars model_var;
   for (int axis = 0; axis < 3; ++axis) {
     rel[axis] = emit_linear({cam.right[axis], cam.up[axis], cam.toward[axis], 0});
     const float c = static_cast<float>(cam.center[axis]);
-    model_var[axis] = c == 0 ? rel[axis] : emit(Op::Add, rel[axis], emit(Op::Const, 0, 0, c));
+    model_var[axis] = c == 0 ? rel[axis] : ssa.emit(Op::Add, rel[axis], ssa.constant(c));
   }
 
   // The model's oracles, evaluated at the model point of (u, v, w): center + u right + v up +
@@ -59,19 +45,10 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
     oracles = std::make_shared<OracleTable>();
     for (const auto& o : *model.oracles()) oracles->push_back(o->transformed(view));
   }
-  // A model instruction without arguments: its constant, its oracle, or the model variable.
-  const auto leaf = [&](const SsaInstr& s) {
-    if (s.op == Op::Const || s.op == Op::Oracle) return emit(s.op, 0, 0, s.value);
-    return model_var[static_cast<int>(s.op) - static_cast<int>(Op::VarX)];
-  };
   const auto src = model.ssa();
-  std::vector<std::uint32_t> map(src.size());
+  std::uint32_t root;
   if (cam.axis_aligned) {
-    for (std::size_t i = 0; i < src.size(); ++i) {
-      const SsaInstr& s = src[i];
-      const int ar = op_arity(s.op);
-      map[i] = ar == 0 ? leaf(s) : emit(s.op, map[s.a], ar > 1 ? map[s.b] : 0, s.value);
-    }
+    root = ssa.append(model, model_var);
   } else {
     // Rotated views: every model value that is affine in x, y, z (planes, coordinate
     // differences, cross products with constant vectors...) is rewritten as one affine form in
@@ -85,7 +62,7 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
     std::vector<std::uint8_t> affine(src.size(), 0);
     std::vector<std::uint8_t> axes(src.size(), 0);  // affine values: bits of the model axes they depend on
     constexpr std::uint32_t kNotEmitted = UINT32_MAX;
-    std::fill(map.begin(), map.end(), kNotEmitted);
+    std::vector<std::uint32_t> map(src.size(), kNotEmitted);
     const auto constant = [](const Affine& f) { return f.c[0] == 0 && f.c[1] == 0 && f.c[2] == 0; };
     // The instruction computing source value j in the view tape. An affine value of one model
     // axis (such as x - a), or a scaled or shifted affine value, is bounded exactly from its
@@ -107,7 +84,7 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
         if (std::popcount(axes[j]) > 1 && combines) {
           map[j] = emit_linear(aff[j].c);
         } else if (ar == 0) {
-          map[j] = leaf(s);
+          map[j] = ssa.copy(s, model_var, map);
         } else if (map[s.a] == kNotEmitted) {
           pending.push_back(s.a);
           continue;
@@ -115,7 +92,7 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
           pending.push_back(s.b);
           continue;
         } else {
-          map[j] = emit(s.op, map[s.a], ar > 1 ? map[s.b] : 0, s.value);
+          map[j] = ssa.copy(s, model_var, map);
         }
         pending.pop_back();
       }
@@ -228,8 +205,8 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
         const Vec3 d = point - cam.center;
         const double ap[3] = {dot(d, cam.right), dot(d, cam.up), dot(d, cam.toward)};
         const float off = static_cast<float>(-ap[j]);
-        std::uint32_t r = off == 0 ? uvw[j] : emit(Op::Add, uvw[j], emit(Op::Const, 0, 0, off));
-        if (scale != 1) r = emit(Op::Mul, r, emit(Op::Const, 0, 0, static_cast<float>(scale)));
+        std::uint32_t r = off == 0 ? uvw[j] : ssa.emit(Op::Add, uvw[j], ssa.constant(off));
+        if (scale != 1) r = ssa.emit(Op::Mul, r, ssa.constant(static_cast<float>(scale)));
         return r;
       };
       const double cp[3] = {dot(c, cam.right), dot(c, cam.up), dot(c, cam.toward)};
@@ -238,14 +215,14 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
       for (int j = 0; j < 3; ++j) {
         std::uint32_t r;
         if (two) {
-          r = emit(Op::Add, emit(Op::Mul, map[g1], offset(a, j)), emit(Op::Mul, map[g2], offset(b, j)));
+          r = ssa.emit(Op::Add, ssa.emit(Op::Mul, map[g1], offset(a, j)), ssa.emit(Op::Mul, map[g2], offset(b, j)));
         } else {
           r = offset(a, j);
           const float cj = static_cast<float>(cp[j]);
-          if (g != kNotEmitted && cj != 0) r = emit(Op::Add, r, cj == 1 ? ge : emit(Op::Mul, ge, emit(Op::Const, 0, 0, cj)));
+          if (g != kNotEmitted && cj != 0) r = ssa.emit(Op::Add, r, cj == 1 ? ge : ssa.emit(Op::Mul, ge, ssa.constant(cj)));
         }
-        const std::uint32_t r2 = emit(Op::Square, r);
-        sum = j == 0 ? r2 : emit(Op::Add, sum, r2);
+        const std::uint32_t r2 = ssa.emit(Op::Square, r);
+        sum = j == 0 ? r2 : ssa.emit(Op::Add, sum, r2);
       }
       return sum;
     };
@@ -302,7 +279,7 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
         continue;
       }
       if (ar == 0) {  // a constant the affine forms refuse (infinite, NaN or near the float limit)
-        map[i] = leaf(s);
+        map[i] = ssa.copy(s, model_var, map);
         continue;
       }
       if (s.op == Op::Add) {
@@ -312,23 +289,22 @@ Tape view_tape(const Tape& model, const Camera& cam, const Box3& bounds) {
           continue;
         }
       }
-      const std::uint32_t ea = get(s.a);
-      map[i] = emit(s.op, ea, ar > 1 ? get(s.b) : 0, s.value);
+      get(s.a);
+      if (ar > 1) get(s.b);
+      map[i] = ssa.copy(s, model_var, map);
     }
-    get(static_cast<std::uint32_t>(src.size() - 1));
+    root = get(static_cast<std::uint32_t>(src.size() - 1));
   }
-  std::uint32_t root = map.back();
   if (!cam.axis_aligned) {
     std::uint32_t box = 0;
     for (int axis = 0; axis < 3; ++axis) {
       const float half = static_cast<float>(bounds.size()[axis] / 2);
-      const std::uint32_t d = emit(Op::Sub, emit(Op::Abs, rel[axis]), emit(Op::Const, 0, 0, half));
-      box = axis == 0 ? d : emit(Op::Max, box, d);
+      const std::uint32_t d = ssa.emit(Op::Sub, ssa.emit(Op::Abs, rel[axis]), ssa.constant(half));
+      box = axis == 0 ? d : ssa.emit(Op::Max, box, d);
     }
-    root = emit(Op::Max, root, box);
+    root = ssa.emit(Op::Max, root, box);
   }
-  if (root != ssa.size() - 1) emit(Op::Add, root, emit(Op::Const, 0, 0, 0.0f));  // root last (only for a bare variable)
-  return Tape::from_ssa(ssa, std::move(oracles));
+  return ssa.finish(root, std::move(oracles));
 }
 
 }  // namespace frep

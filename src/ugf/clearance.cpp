@@ -2,7 +2,8 @@
 // a gradient-descent polish of the best point found. Each box carries the tape simplified to it
 // (shared with its parent unless simplifying shrinks it), so that near the bodies only the few
 // nearby terms of a converted mesh are evaluated. The caller may seed it with points and watch
-// (and stop) it through a progress callback.
+// (and stop) it through a progress callback. Then the points that name the result: the nearest
+// points of a gap, the deepest point of an interference.
 #include "frep/ugf/clearance.hpp"
 
 #include <algorithm>
@@ -170,6 +171,44 @@ ClearanceResult find_clearance(Expr A, Expr B, Interval x, Interval y, Interval 
   if (!open.empty()) lo = std::min(lo, open.top().lo);
   res.lower_bound = std::min(lo, res.value);
   return res;
+}
+
+bool ClearanceResult::within_tolerance(double tolerance) const {
+  return converged && value - lower_bound <= tolerance * (1 + 1e-6) + 1e-7 * std::fabs(value);
+}
+
+Box3 shared_region(const Box3& a, const Box3& b) {
+  const Box3 box{max(a.lo, b.lo), min(a.hi, b.hi)};
+  return box.inflated(1e-3 * length(box.size()));
+}
+
+Vec3 project_to_surface(const Tape& f, const Vec3f& p) {
+  GradEvaluator ge;
+  const Grad g = ge.eval(f, p.x, p.y, p.z);
+  const double n = std::sqrt(double(g.dx) * g.dx + double(g.dy) * g.dy + double(g.dz) * g.dz);
+  if (!(n > 0) || !std::isfinite(n)) return Vec3(p);
+  const double k = g.v / n;
+  return {p.x - k * g.dx, p.y - k * g.dy, p.z - k * g.dz};
+}
+
+DeepestPoint deepest_point(const Tape& a, const Tape& b, const Vec3f& p) {
+  GradEvaluator ge;
+  PointEvaluator pe;
+  const auto in_both = [&](const Vec3& q) {
+    const float x = float(q.x), y = float(q.y), z = float(q.z);
+    return pe.eval(a, x, y, z) < 0 && pe.eval(b, x, y, z) < 0;
+  };
+  const Grad ga = ge.eval(a, p.x, p.y, p.z);
+  const float vb = pe.eval(b, p.x, p.y, p.z);
+  const double n = std::sqrt(double(ga.dx) * ga.dx + double(ga.dy) * ga.dy + double(ga.dz) * ga.dz);
+  if (n > 0 && std::isfinite(n) && std::isfinite(vb)) {
+    const double s = (double(vb) - ga.v) / 2 / n;
+    const Vec3 q{p.x + s * ga.dx, p.y + s * ga.dy, p.z + s * ga.dz};
+    if (in_both(q)) return {q, true};
+  }
+  const Vec3 mid = (project_to_surface(a, p) + project_to_surface(b, p)) * 0.5;
+  if (in_both(mid)) return {mid, true};
+  return {Vec3(p), in_both(Vec3(p))};
 }
 
 }  // namespace frep::ugf

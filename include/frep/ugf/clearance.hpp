@@ -1,6 +1,6 @@
 // Measuring the clearance between two bodies: the minimum of S = A + B (two_body.hpp) over a
 // region, by interval branch and bound with a local polish (docs/ugf.md, "Two bodies
-// and clearance").
+// and clearance"); then where the bodies are nearest, or the deepest point they share.
 #pragma once
 
 #include <cstddef>
@@ -10,6 +10,10 @@
 #include "frep/eval/interval.hpp"
 #include "frep/expr/expr.hpp"
 #include "frep/math/vec.hpp"
+
+namespace frep {
+class Tape;
+}
 
 namespace frep::ugf {
 
@@ -55,11 +59,41 @@ struct ClearanceResult {
   // boxes, nor stopped). Then lower_bound is within the tolerance of value, unless cells too
   // small to split in float were set aside (their bound is in lower_bound).
   bool converged = false;
+
+  // Whether `value` is proven the minimum to within `tolerance` (ClearanceOptions::tolerance
+  // before its rounding to float): converged, with lower_bound that close, allowing for the
+  // search having compared them in float.
+  bool within_tolerance(double tolerance) const;
 };
 
 // Minimizes A + B over the box [x] x [y] x [z]. A and B should be signed distances (or UGFs);
 // for other fields the minimum of A + B is not a gap.
 ClearanceResult find_clearance(Expr A, Expr B, Interval x, Interval y, Interval z,
                                const ClearanceOptions& opt = {});
+
+// Where the volume two bodies share lies, from their bounding boxes: the boxes' intersection,
+// padded by a thousandth of its diagonal so that points on its faces (where the surfaces touch)
+// stay inside once the region is rounded to float.
+Box3 shared_region(const Box3& a, const Box3& b);
+
+// The point of f's surface nearest p, for a signed distance f: p - f(p) grad f / |grad f| (exact
+// for planes and spheres). p itself where the gradient is zero or not finite. For a gap (a
+// minimum of A + B >= 0 at p), the nearest points are p projected onto A and onto B.
+Vec3 project_to_surface(const Tape& f, const Vec3f& p);
+
+// Where two bodies interfere most (deepest_point).
+struct DeepestPoint {
+  Vec3 point;
+  // `point` is inside both bodies (both fields negative there, evaluated in float). False when no
+  // such point was found: `point` is then the point given.
+  bool inside_both = false;
+};
+
+// A point inside both bodies A and B (signed distances) from a minimizer p of A + B < 0, as
+// find_clearance returns it. That sum is constant along the whole deepest segment, so p may lie
+// anywhere on it, even outside one body: moving along A's gradient by (B - A) / 2 evens the two
+// depths (exact for signed distances). Falls back on the middle of the two surface points
+// nearest p (project_to_surface), then on p itself.
+DeepestPoint deepest_point(const Tape& a, const Tape& b, const Vec3f& p);
 
 }  // namespace frep::ugf
