@@ -156,7 +156,8 @@ Repair repair_vertex(Assembly& as, std::uint32_t v, std::vector<char>& mass_poin
 
 // Checks every vertex, repairs those that fail and checks again next to the repairs, for at most
 // 8 rounds, in vertex order (the same result for any thread count). Returns the vertices that
-// may still fail (sorted, each once).
+// may still fail (sorted, each once): those no repair helped when they failed, and those left
+// after the last round. Every other vertex passes.
 std::vector<std::uint32_t> repair_vertices(Assembly& as, ThreadPool& pool);
 
 // The mesh: the dual vertices, the face points, then the fan centers in polygon order; the
