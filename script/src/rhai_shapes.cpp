@@ -1,4 +1,5 @@
-// Fidget's shape library and small types (vec2/vec3/vec4, axis, plane) for the Rhai reader.
+// Fidget's shape library and small types (vec2/vec3/vec4, axis, plane) for the Rhai reader: the
+// call forms and conversions; the shapes themselves are the modeling library's.
 //
 // Facts relied on (Fidget, crates fidget-shapes and fidget-rhai, read in 2025):
 // - Shapes are structs with named, typed fields (f64, Vec2, Vec3, Axis, Plane, Tree, Vec<Tree>)
@@ -18,16 +19,9 @@
 //   below 1e-8 or above 1e8 are errors), "x"/"y"/"z" (either case) or the tree x, y or z. A
 //   Plane comes from a Plane, an axis (offset 0), or "xy"/"yz"/"zx" (either case); Fidget's
 //   constants give "xy" and "zx" the Y axis and "yz" the X axis, reproduced as they are.
-// - Formulas: circle sqrt((x-cx)^2 + (y-cy)^2) - r; sphere likewise in 3D; rectangle and box
-//   max of (lower - p, p - upper) per axis; union / intersection balanced min / max trees (+inf
-//   / -inf when empty); blend min(a, b) - 1/(4r) * max(r - |a - b|, 0)^2 for r > 0, else
-//   min(a, b) (Quilez's quadratic smooth min); inverse -a; difference max(a, -b); move, scale,
-//   scale_uniform and rotate are affine remaps by translation(-offset), scale(1/s), and
-//   T(c) R(-angle) T(-c) (nalgebra's axis-angle matrix, angle in degrees); reflect remaps
-//   p - 2 (dot(a, p) - offset) a; revolve_y moves by (offset, 0, 0), remaps x to
-//   sqrt(x^2 + y^2), moves back by (-offset, 0, 0) (as Fidget writes it); extrude_z and loft_z
-//   take the shape at z = 0 and cut it with max(lower - z, z - upper), loft_z blending
-//   ((z - lower) b + (upper - z) a) / (upper - lower).
+// - Formulas: those of the modeling library (frep/model/shapes.hpp, csg.hpp, transform.hpp),
+//   which each builtin below calls; move, scale, rotate and the other affine transforms compose
+//   into one map before the expression is built, as Fidget does.
 // - Defaults: circle center [0, 0] radius 1; sphere center [0, 0, 0] radius 1; move offset 0;
 //   scale [1, 1, 1]; scale_uniform 1; reflect plane "yz"; reflect_* offset 0; rotate axis z,
 //   angle 0, center 0; rotate_* angle 0, center 0; revolve_y offset 0; extrude_z / loft_z
