@@ -20,8 +20,8 @@ namespace {
 
 void check_output_path(const std::string& path, const std::string& input) {
   const MeshFormat f = format_from_extension(path);
-  if (f != MeshFormat::Stl && f != MeshFormat::Obj && f != MeshFormat::Ply && !is_device(path))
-    throw InputError(path, 0, "unknown mesh format for the output: use a .stl, .obj or .ply file name");
+  if (f != MeshFormat::Stl && f != MeshFormat::Obj && f != MeshFormat::Ply && f != MeshFormat::ThreeMf && !is_device(path))
+    throw InputError(path, 0, "unknown mesh format for the output: use a .stl, .obj, .ply or .3mf file name");
   check_output(path, {input});
 }
 
@@ -33,7 +33,7 @@ void register_mesh(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "mesh", "Mesh an expression: a closed, manifold, outward-oriented triangle mesh of where it is negative");
   struct Args {
-    std::string input, output, method = "dc", gradient = "analytic";
+    std::string input, output, method = "dc", gradient = "analytic", units = "mm";
     int resolution = 0;
     double cell = 0;
     std::vector<double> bounds;
@@ -43,8 +43,10 @@ void register_mesh(CLI::App& app) {
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("INPUT", a->input, kFieldInputHelp)->required();
-  cmd->add_option("-o,--output", a->output, "Output mesh (.stl binary, .obj or .ply binary), written atomically")
+  cmd->add_option("-o,--output", a->output,
+                  "Output mesh (.stl binary, .obj, .ply binary, or .3mf for slicers), written atomically")
       ->required();
+  add_units_option(cmd, a->units);
   auto* res = cmd->add_option("--resolution,-r", a->resolution, "Cells across the longest side of the bounds")
                   ->check(CLI::Validator(
                       [](std::string& s) -> std::string {
@@ -155,7 +157,7 @@ void register_mesh(CLI::App& app) {
                                    "the bounds, or thinner than a cell: try ") +
                            (a->cell > 0 ? "a smaller --cell)" : "a finer --resolution)"));
     }
-    write_mesh(a->output, mesh);
+    write_mesh_output(a->output, mesh, a->units);
     if (!a->quiet) {
       fmt::print("grid: {} x {} x {} cells of {:.6g} over {} .. {}\n", st.cells[0], st.cells[1], st.cells[2],
                  st.cell_size, fmt_point(st.bounds.lo), fmt_point(st.bounds.hi));

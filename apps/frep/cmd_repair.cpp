@@ -22,7 +22,7 @@ void register_repair(CLI::App& app) {
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("MESH", a->mesh, "Mesh file (.stl, .obj, .ply, .off)")->required();
-  cmd->add_option("-o,--output", a->output, "Output mesh (.stl, .obj, .ply), written only on success")->required();
+  cmd->add_option("-o,--output", a->output, "Output mesh (.stl, .obj, .ply, .3mf in mm), written only on success")->required();
   cmd->add_flag("--json", a->json, "Print the report as JSON");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress lines on stderr");
   cmd->add_flag("--no-fill", a->no_fill, "Refuse meshes with holes instead of filling them");
@@ -53,7 +53,8 @@ void register_repair(CLI::App& app) {
     opt.quiet = a->quiet || a->json;
     opt.remesh_resolution = a->resolution;
     // STL stores floats: the repair works on float coordinates, so that what is written is what was checked.
-    opt.float_coordinates = format_from_extension(a->output) == MeshFormat::Stl || is_device(a->output);
+    const MeshFormat out_format = format_from_extension(a->output);  // STL and 3MF store floats
+    opt.float_coordinates = out_format == MeshFormat::Stl || out_format == MeshFormat::ThreeMf || is_device(a->output);
     RepairResult r = make_solid(mesh, opt);
     MeshWriteOptions wo;
     wo.ascii = a->ascii;

@@ -25,7 +25,7 @@ std::string fmt_point(const Vec3& p) { return fmt::format("{:.6g}, {:.6g}, {:.6g
 bool is_mesh_output(const std::string& path) {
   if (is_device(path)) return true;  // /dev/null: a binary STL, as write_mesh writes there
   const MeshFormat f = format_from_extension(path);
-  return f == MeshFormat::Stl || f == MeshFormat::Obj || f == MeshFormat::Ply;
+  return f == MeshFormat::Stl || f == MeshFormat::Obj || f == MeshFormat::Ply || f == MeshFormat::ThreeMf;
 }
 
 void add_field_output_options(CLI::App* cmd, const std::shared_ptr<FieldOutputOptions>& o) {
@@ -49,6 +49,7 @@ void add_field_output_options(CLI::App* cmd, const std::shared_ptr<FieldOutputOp
   cmd->add_flag("--quiet,-q", o->quiet, "Print nothing but errors");
   add_repair_option(cmd, o->repair);
   add_lipschitz_option(cmd, o->lipschitz);
+  add_units_option(cmd, o->units);
 }
 
 void check_field_output_options(const FieldOutputOptions& o) {
@@ -65,11 +66,11 @@ void check_field_output(const std::string& path, const std::string& input) {
     const MeshFormat f = format_from_extension(path);
     if (f != MeshFormat::Unknown)
       throw InputError(path, 0, std::string("cannot write .") + format_name(f) +
-                                    ": the output is a mesh (.stl, .obj, .ply) or an expression (.vm, .rhai, .frep)");
+                                    ": the output is a mesh (.stl, .obj, .ply, .3mf) or an expression (.vm, .rhai, .frep)");
     try {
       check_expression_path(path);
     } catch (const InputError&) {
-      throw InputError(path, 0, "unknown output format: use .stl, .obj or .ply (a mesh) or .vm, .rhai or .frep (the expression)");
+      throw InputError(path, 0, "unknown output format: use .stl, .obj, .ply or .3mf (a mesh) or .vm, .rhai or .frep (the expression)");
     }
   }
   check_output(path, {input});
@@ -117,7 +118,7 @@ void write_field_output(const std::string& input, const std::string& path, const
     throw InputError(input, 0,
                      "the result is empty: no sample of the grid is inside it (the operation removed everything, "
                      "or it is thinner than a cell: try a finer --resolution)");
-  write_mesh(path, mesh);
+  write_mesh_output(path, mesh, o.units);
   warn_unresolved(st.unresolved);
   if (!o.quiet) {
     fmt::print("grid: {} x {} x {} cells of {:.6g} over {} .. {}\n", st.cells[0], st.cells[1], st.cells[2],

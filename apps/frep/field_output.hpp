@@ -21,16 +21,17 @@ struct FieldOutputOptions {
   bool quiet = false;
   bool repair = false;  // --repair: repair a broken input mesh first
   double lipschitz = -1;       // --lipschitz, or < 0 if not given; commands resolve it with lipschitz_of
+  std::string units = "mm";    // --units: a .3mf output's length unit
 };
 
-// Adds --resolution, --bounds, --threads, --quiet, --repair and --lipschitz, stored in `o` (which must outlive parsing).
+// Adds --resolution, --bounds, --threads, --quiet, --repair, --lipschitz and --units, stored in `o` (which must outlive parsing).
 void add_field_output_options(CLI::App* cmd, const std::shared_ptr<FieldOutputOptions>& o);
 // Checks what CLI11 cannot (finite, non-empty bounds); throws CLI::ValidationError.
 void check_field_output_options(const FieldOutputOptions& o);
 
 // Help text for the -o option.
 inline constexpr const char* kFieldOutputHelp =
-    "Output: a mesh (.stl, .obj, .ply; meshed by dual contouring, closed and manifold) or the expression "
+    "Output: a mesh (.stl, .obj, .ply, .3mf; meshed by dual contouring, closed and manifold) or the expression "
     "(.vm, .rhai, .frep); written atomically";
 
 // True for a mesh file name (.stl, .obj, .ply); otherwise the output is the expression.

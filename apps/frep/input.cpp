@@ -9,6 +9,7 @@
 #include "frep/convert/make_solid.hpp"
 #include "frep/error.hpp"
 #include "frep/mesh/mesh_io.hpp"
+#include "frep/mesh/validate.hpp"
 #include "frep/util/atomic_file.hpp"
 
 namespace frep::cli {
@@ -29,6 +30,28 @@ Model load_input(const std::string& path, bool quiet, ConvertStats* stats, bool 
 void add_repair_option(CLI::App* cmd, bool& value) {
   cmd->add_flag("--repair", value,
                 "Repair a mesh that is not a valid solid first (as frep repair does) instead of refusing it");
+}
+
+void add_units_option(CLI::App* cmd, std::string& value) {
+  cmd->add_option("--units", value, "Length unit of a .3mf output's coordinates: micron, mm, cm, inch, foot or m")
+      ->check(CLI::Validator(
+          [](std::string& s) -> std::string {
+            return length_unit_from_name(s) ? std::string() : "unknown unit " + s + ": use micron, mm, cm, inch, foot or m";
+          },
+          "UNIT"))
+      ->capture_default_str();
+}
+
+void write_mesh_output(const std::string& path, const TriMesh& mesh, const std::string& units) {
+  MeshWriteOptions o;
+  o.units = length_unit_from_name(units).value_or(LengthUnit::Millimeter);
+  if (format_from_extension(path) == MeshFormat::ThreeMf) {
+    const ValidationReport stored = validate_mesh(as_3mf_stores(mesh));
+    if (!stored.is_solid() && validate_mesh(mesh).is_solid())
+      throw InputError(path, 0, "3MF keeps six decimals of each coordinate, and the mesh rounded so is no longer a valid solid (" +
+                                    stored.summary() + "): write .stl, .obj or .ply, or give coordinates in smaller units");
+  }
+  write_mesh(path, mesh, o);
 }
 
 TriMesh repaired_if_asked(TriMesh mesh, bool repair, bool quiet) {

@@ -6,6 +6,8 @@
 #include <initializer_list>
 #include <string>
 
+#include "frep/mesh/mesh_io.hpp"
+
 #include "frep/convert/convert.hpp"
 #include "frep/expr/model.hpp"
 #include "frep/contour/mesh_options.hpp"
@@ -22,6 +24,12 @@ Model load_input(const std::string& path, bool quiet = false, ConvertStats* stat
 
 // --repair: the commands that read meshes repair broken ones first instead of refusing them.
 void add_repair_option(CLI::App* cmd, bool& value);
+// Adds --units (3MF output's length unit, default mm), checked against length_unit_from_name.
+void add_units_option(CLI::App* cmd, std::string& value);
+// Writes a mesh output with the --units given. A .3mf keeps six decimals of each coordinate: the
+// mesh as stored is checked first, and refused (InputError naming the file) if the rounding broke
+// a valid solid, with the advice to write in smaller units.
+void write_mesh_output(const std::string& path, const TriMesh& mesh, const std::string& units);
 // `mesh`, repaired if `repair` (saying so on stderr unless quiet): for commands that read meshes themselves.
 TriMesh repaired_if_asked(TriMesh mesh, bool repair, bool quiet);
 

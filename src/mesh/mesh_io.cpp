@@ -47,6 +47,7 @@ const char* format_name(MeshFormat f) {
     case MeshFormat::Obj: return "obj";
     case MeshFormat::Ply: return "ply";
     case MeshFormat::Off: return "off";
+    case MeshFormat::ThreeMf: return "3mf";
     case MeshFormat::Unknown: break;
   }
   return "unknown";
@@ -60,10 +61,12 @@ MeshFormat format_from_extension(std::string_view path) {
   if (iequals(ext, "obj")) return MeshFormat::Obj;
   if (iequals(ext, "ply")) return MeshFormat::Ply;
   if (iequals(ext, "off")) return MeshFormat::Off;
+  if (iequals(ext, "3mf")) return MeshFormat::ThreeMf;
   return MeshFormat::Unknown;
 }
 
 MeshFormat sniff_format(std::string_view b) {
+  if (b.substr(0, 4) == std::string_view("PK\x03\x04", 4)) return MeshFormat::ThreeMf;  // a zip: the one zipped mesh format
   if (b.size() >= 4 && b.substr(0, 3) == "ply" && (b[3] == '\n' || b[3] == '\r' || b[3] == ' ' || b[3] == '\t'))
     return MeshFormat::Ply;
   // A binary STL whose size matches its triangle count, whatever its header says.
@@ -109,12 +112,13 @@ TriMesh read_mesh_from_memory(std::string_view bytes, const std::string& name, c
     case MeshFormat::Obj: return read_obj(bytes, name);
     case MeshFormat::Ply: return read_ply(bytes, name);
     case MeshFormat::Off: return read_off(bytes, name);
+    case MeshFormat::ThreeMf: return read_3mf(bytes, name);
     case MeshFormat::Unknown: break;
   }
   if (const std::string ext = std::filesystem::path(name).extension().string(); ext == ".vm" || ext == ".rhai" || ext == ".frep")
     throw InputError(name, 0, "is an expression, not a mesh (expected STL, OBJ, PLY or OFF): commands that take "
                               "expressions read it (info, eval, render, mesh, sample...)");
-  throw InputError(name, 0, "unrecognized mesh format (expected STL, OBJ, PLY or OFF)");
+  throw InputError(name, 0, "unrecognized mesh format (expected STL, OBJ, PLY, OFF or 3MF)");
 }
 
 TriMesh read_mesh(const std::string& path, const MeshReadOptions& options) {
@@ -136,7 +140,17 @@ Vec3 unit_normal(const TriMesh& m, std::size_t t) {
 
 }  // namespace
 
-std::string write_mesh_to_string(const TriMesh& m, MeshFormat format, bool ascii) {
+std::optional<LengthUnit> length_unit_from_name(std::string_view n) {
+  if (iequals(n, "micron") || iequals(n, "um")) return LengthUnit::Micron;
+  if (iequals(n, "mm") || iequals(n, "millimeter") || iequals(n, "millimetre")) return LengthUnit::Millimeter;
+  if (iequals(n, "cm") || iequals(n, "centimeter") || iequals(n, "centimetre")) return LengthUnit::Centimeter;
+  if (iequals(n, "inch") || iequals(n, "in")) return LengthUnit::Inch;
+  if (iequals(n, "foot") || iequals(n, "ft")) return LengthUnit::Foot;
+  if (iequals(n, "m") || iequals(n, "meter") || iequals(n, "metre")) return LengthUnit::Meter;
+  return std::nullopt;
+}
+
+std::string write_mesh_to_string(const TriMesh& m, MeshFormat format, bool ascii, LengthUnit units) {
   std::string out;
   char buf[256];
   if (m.triangles.empty()) throw InputError(m.name, 0, "cannot write a mesh with no triangles");
@@ -206,19 +220,21 @@ std::string write_mesh_to_string(const TriMesh& m, MeshFormat format, bool ascii
         for (std::uint32_t v : t) put_u32(out, v);
       }
       return out;
+    case MeshFormat::ThreeMf:
+      return write_3mf(m, units);
     case MeshFormat::Off:
     case MeshFormat::Unknown:
       break;
   }
-  throw InputError("", 0, std::string("cannot write meshes as ") + format_name(format) + " (use stl, obj or ply)");
+  throw InputError("", 0, std::string("cannot write meshes as ") + format_name(format) + " (use stl, obj, ply or 3mf)");
 }
 
 void write_mesh(const std::string& path, const TriMesh& mesh, const MeshWriteOptions& options) {
   MeshFormat f = options.format == MeshFormat::Unknown ? format_from_extension(path) : options.format;
   if (f == MeshFormat::Unknown && is_device(path)) f = MeshFormat::Stl;  // /dev/null: binary STL, in place
   if (f == MeshFormat::Unknown || f == MeshFormat::Off)
-    throw InputError(path, 0, "cannot tell the output mesh format; use a .stl, .obj or .ply name");
-  write_file_atomically(path, write_mesh_to_string(mesh, f, options.ascii));
+    throw InputError(path, 0, "cannot tell the output mesh format; use a .stl, .obj, .ply or .3mf name");
+  write_file_atomically(path, write_mesh_to_string(mesh, f, options.ascii, options.units));
 }
 
 }  // namespace frep

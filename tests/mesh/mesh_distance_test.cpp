@@ -422,7 +422,7 @@ TEST(MeshDistance, FirstHitMatchesTestingEveryTriangle) {
     const auto h = md.first_hit(o, dir);
     if (!std::isfinite(best)) {
       // A miss, or a graze within the widened barycentric tests.
-      if (h) EXPECT_NEAR(length(o + dir * h->t), 1.0, 0.05);
+      if (h) { EXPECT_NEAR(length(o + dir * h->t), 1.0, 0.05); }
       continue;
     }
     ASSERT_TRUE(h.has_value()) << "missed a hit at t = " << best;
