@@ -66,13 +66,13 @@ py::array_t<T> own_vector(std::vector<T>&& v, std::vector<py::ssize_t> shape) {
   return py::array_t<T>(shape, owned->data(), free_when_done);
 }
 
-// Points of an N x 3 array of float32 (used as they are) or float64 (rounded once), split into
-// the x, y, z arrays the evaluators read.
+// Points of an N x 3 array (or anything NumPy makes one of) of float32 (used as they are) or
+// float64 (rounded once), split into the x, y, z arrays the evaluators read.
 struct Points {
   std::vector<float> x, y, z;
   std::size_t size() const { return x.size(); }
 };
-Points points_of(const py::array& points);
+Points points_of(const py::object& points);
 
 // A box from (x0, y0, z0, x1, y1, z1) or ((x0, y0, z0), (x1, y1, z1)); throws ValueError unless
 // finite with lo < hi on every axis.

@@ -48,7 +48,7 @@ Expr sub(Expr a, Expr b) { return a - b; }
 Expr mul(Expr a, Expr b) { return a * b; }
 Expr div(Expr a, Expr b) { return a / b; }
 
-py::array_t<float> evaluate(const PyField& f, const py::array& points, const std::optional<int>& threads) {
+py::array_t<float> evaluate(const PyField& f, const py::object& points, const std::optional<int>& threads) {
   const Points p = points_of(points);
   const Tape tape = f.tape();
   py::array_t<float> out(static_cast<py::ssize_t>(p.size()));
@@ -97,7 +97,7 @@ void bind_field(py::module_& m) {
       .def("__call__", &evaluate, py::arg("points"), py::arg("threads") = py::none(), "The same as sdf(points).")
       .def(
           "gradient",
-          [](const PyField& f, const py::array& points, const std::optional<int>& threads) {
+          [](const PyField& f, const py::object& points, const std::optional<int>& threads) {
             const Points p = points_of(points);
             const Tape tape = f.tape();
             const std::size_t n = p.size();

@@ -50,7 +50,9 @@ SameGraph same_graph(const PyField& a, const PyField& b) {
   return {b.graph, a.in_graph_of(b), b.field};
 }
 
-Points points_of(const py::array& points) {
+Points points_of(const py::object& given) {
+  const py::array points = py::array::ensure(given);
+  if (!points) throw py::error_already_set();
   if (points.ndim() != 2 || points.shape(1) != 3)
     throw py::value_error("points must be an N x 3 array, got shape " + std::string(py::str(points.attr("shape"))));
   const std::size_t n = static_cast<std::size_t>(points.shape(0));

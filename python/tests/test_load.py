@@ -79,3 +79,12 @@ def test_mesh_arrays_round_trip(mesh_path, tmp_path):
     np.testing.assert_array_equal(f, f2)
     field = frep.mesh_field(v, f)
     assert field.is_mesh and field.sdf(np.zeros((1, 3), np.float32))[0] < 0
+
+
+def test_importing_frep_needs_no_dask():
+    import subprocess
+    import sys
+
+    code = "import sys, frep; assert callable(frep.dataset); assert 'dask' not in sys.modules; print('ok')"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "ok"

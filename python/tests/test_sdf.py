@@ -40,6 +40,7 @@ def test_float32_and_float64_inputs_give_the_same_values(mesh_path, rng):
     # Strided views and integer arrays are read too.
     np.testing.assert_array_equal(f.sdf(np.asfortranarray(p32)), f.sdf(p32))
     assert f.sdf(np.zeros((3, 3), np.int64)).shape == (3,)
+    np.testing.assert_array_equal(f.sdf(p64[:4].tolist()), f.sdf(p32[:4]))  # lists too
     assert f(p32).dtype == np.float32
 
 
