@@ -30,6 +30,7 @@
 #include "frep/math/grad.hpp"
 #include "frep/math/interval.hpp"
 #include "frep/eval/tape.hpp"
+#include "frep/eval/ssa_builder.hpp"
 #include "frep/eval/backend.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/eval/interval_batch.hpp"

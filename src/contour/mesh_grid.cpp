@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "eval/ssa_builder.hpp"
+#include "frep/eval/ssa_builder.hpp"
 #include "frep/error.hpp"
 
 namespace frep::contour {

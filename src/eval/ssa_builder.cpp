@@ -1,4 +1,4 @@
-#include "eval/ssa_builder.hpp"
+#include "frep/eval/ssa_builder.hpp"
 
 #include <utility>
 

@@ -2,7 +2,7 @@
 // instructions with their variables replaced, then (for rotated views) the cut at the bounds.
 #include "view_tape.hpp"
 
-#include "eval/ssa_builder.hpp"
+#include "frep/eval/ssa_builder.hpp"
 #include "frep/expr/oracle.hpp"
 
 #include <bit>

@@ -8,7 +8,7 @@
 #include <random>
 #include <string>
 
-#include "eval/ssa_builder.hpp"
+#include "frep/eval/ssa_builder.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/expr/expr.hpp"
 #include "frep/expr/oracle.hpp"

@@ -1,4 +1,4 @@
-// SsaBuilder (private to the library): writes a tape's SSA by hand, for the code that builds one
+// SsaBuilder: writes a tape's SSA by hand, for the code that builds one
 // tape from another with x, y, z substituted (the renderer's view tape, the mesher's field closed
 // at a box). Substitution lives here once, so that a fix to it reaches every such tape.
 #pragma once
