@@ -1,7 +1,7 @@
 // The source tree's layering, as docs/layout.md states it: every module includes only modules
 // below it, private headers (under src/<module>/) are included only by their own module (src/util
 // is the library's shared toolbox, open to every module of the library), and the layers above
-// the library (the script language, the command-line tool) use public headers only.
+// the library (the script language, the command-line tool, the Python bindings) use public headers only.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -20,7 +20,8 @@ namespace fs = std::filesystem;
 // types, used by all) and the umbrellas frep.hpp and ugf.hpp are placed by name below.
 const std::vector<std::string> kOrder = {"error",  "util",   "math",    "expr",   "eval",   "mesh",
                                          "io",     "model",   "ugf",     "contour", "sample", "render",
-                                         "convert", "export", "script",  "apps"};
+                                         "convert", "export", "script",  "apps",
+                                         "python"};
 
 int rank_of(const std::string& module) {
   const auto it = std::find(kOrder.begin(), kOrder.end(), module);
@@ -62,6 +63,7 @@ std::vector<Source> sources(const fs::path& root) {
   }, true);
   add_tree(root / "script", [](const std::string&) { return std::string("script"); }, false);
   add_tree(root / "apps", [](const std::string&) { return std::string("apps"); }, false);
+  add_tree(root / "python" / "src", [](const std::string&) { return std::string("python"); }, false);
   return out;
 }
 
@@ -108,6 +110,7 @@ TEST(Layering, NoModuleIncludesOneAboveItOrAnotherModulesPrivateHeaders) {
   EXPECT_GT(checked["eval"], 20);
   EXPECT_GT(checked["script"], 20);
   EXPECT_GT(checked["apps"], 20);
+  EXPECT_GT(checked["python"], 10);
   for (const std::string& p : problems) ADD_FAILURE() << p;
 }
 
