@@ -31,11 +31,12 @@ void add_repair_option(CLI::App* cmd, bool& value) {
                 "Repair a mesh that is not a valid solid first (as frep repair does) instead of refusing it");
 }
 
-TriMesh repaired_if_asked(TriMesh mesh, bool repair, bool quiet) {
+TriMesh repaired_if_asked(TriMesh mesh, bool repair, bool quiet, std::string* summary) {
   if (!repair) return mesh;
   RepairOptions ro;
   ro.quiet = quiet;
   RepairResult r = make_solid(mesh, ro);
+  if (summary) *summary = repair_summary(r.report);
   if (r.report.changed) fmt::print(stderr, "frep: repaired {}: {}\n", mesh.name, repair_summary(r.report));
   r.mesh.name = mesh.name;
   return std::move(r.mesh);

@@ -23,7 +23,8 @@ Model load_input(const std::string& path, bool quiet = false, ConvertStats* stat
 // --repair: the commands that read meshes repair broken ones first instead of refusing them.
 void add_repair_option(CLI::App* cmd, bool& value);
 // `mesh`, repaired if `repair` (saying so on stderr unless quiet): for commands that read meshes themselves.
-TriMesh repaired_if_asked(TriMesh mesh, bool repair, bool quiet);
+// `summary`, when given, receives what the repair did (repair_summary) if it ran.
+TriMesh repaired_if_asked(TriMesh mesh, bool repair, bool quiet, std::string* summary = nullptr);
 
 // --lipschitz L: lets a command that subdivides space (render, mesh, offset, shell) assume
 // |f(p) - f(q)| <= L |p - q| (see FieldInfo::lipschitz). `value` stays negative unless given.
