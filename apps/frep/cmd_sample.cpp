@@ -1,8 +1,11 @@
 // frep sample: dense grids (optionally truncated at +-D) and point samples of exact signed
 // distances, from a mesh or an expression, written as float32 .npy files (layout in
-// frep/sample/grid.hpp, docs/sampling.md).
+// frep/sample/grid.hpp, docs/sampling.md); meshes optionally normalized first, and a one-line
+// JSON summary for scripts such as frep dataset.
 #include <fmt/core.h>
+#include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <chrono>
 #include <cmath>
@@ -73,6 +76,51 @@ void refuse_non_finite(const std::vector<float>& data, const std::optional<GridS
                         "frep overflow about 2e19 from their part: convert them again)"));
 }
 
+// --normalize: the similarity p -> (p - offset) * scale applied to the mesh's vertices before
+// sampling, so that original = normalized / scale + offset and distances scale by `scale`.
+struct Normalization {
+  std::string mode = "none";
+  double scale = 1;
+  Vec3 offset{0, 0, 0};
+};
+
+// unit-cube: the box of the used vertices centred at the origin, its longest side 1.
+// unit-sphere: the same centre, the farthest used vertex at distance 1.
+Normalization normalize_mesh(TriMesh& mesh, const std::string& mode) {
+  Normalization n;
+  n.mode = mode;
+  if (mode == "none" || mesh.triangles.empty()) return n;  // no triangles: MeshField says so
+  const Box3 box = bounding_box(mesh);
+  n.offset = box.center();
+  double extent = 0;
+  if (mode == "unit-cube") {
+    const Vec3 s = box.size();
+    extent = std::max({s.x, s.y, s.z});
+  } else {
+    for (const Triangle& t : mesh.triangles)
+      for (std::uint32_t v : t) extent = std::max(extent, length(mesh.vertices[v] - n.offset));
+  }
+  if (!(extent > 0) || !std::isfinite(extent))
+    throw InputError(mesh.name, 0, fmt::format("cannot normalize to a {}: the mesh's box has no extent", mode));
+  n.scale = 1 / extent;
+  for (Vec3& v : mesh.vertices) v = (v - n.offset) * n.scale;
+  return n;
+}
+
+// A JSON string (quotes, backslashes and control characters escaped).
+std::string json_str(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\', o += c;
+    else if (static_cast<unsigned char>(c) < 0x20) o += fmt::format("\\u{:04x}", static_cast<unsigned char>(c));
+    else o += c;
+  }
+  return o + "\"";
+}
+
+// The shortest number that reads back to the same double, or null (JSON has no infinities).
+std::string json_num(double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string("null"); }
+
 }  // namespace
 
 void register_sample(CLI::App& app) {
@@ -90,7 +138,8 @@ void register_sample(CLI::App& app) {
     std::uint64_t seed = 0;
     double weld_tolerance = 0;
     int threads = 0;
-    bool quiet = false, repair = false;
+    std::string normalize = "none";
+    bool quiet = false, repair = false, json = false;
   };
   auto a = std::make_shared<Args>();
   cmd->add_option("INPUT", a->input, "Mesh (.stl, .obj, .ply, .off) or expression (.vm, .rhai, .frep)")->required();
@@ -136,6 +185,15 @@ void register_sample(CLI::App& app) {
   cmd->add_option("--weld-tolerance", a->weld_tolerance, "Meshes: merge vertices closer than this first (default 0)")
       ->check(finite_non_negative());
   cmd->add_option("--threads", a->threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0, 1024));
+  cmd->add_option("--normalize", a->normalize,
+                  "Meshes: 'unit-cube' (the box of the mesh centred at the origin, its longest side 1; default "
+                  "bounds [-0.55,0.55]^3), 'unit-sphere' (the box's centre at the origin, the farthest vertex at "
+                  "distance 1; default bounds [-1.1,1.1]^3) or 'none' (default). Coordinates, distances, --sigma "
+                  "and --truncate are then in normalized units: original = normalized / scale + offset")
+      ->check(CLI::IsMember({"none", "unit-cube", "unit-sphere"}));
+  cmd->add_flag("--json", a->json,
+                "Print a one-line JSON summary instead of the text one (output, shape, count, triangles, check "
+                "verdict, repair, normalization, bounds, seconds)");
   cmd->add_flag("--quiet,-q", a->quiet, "Print nothing but errors");
   add_repair_option(cmd, a->repair);
   cmd->callback([a] {
@@ -163,9 +221,13 @@ void register_sample(CLI::App& app) {
     };
     std::vector<float> data;
     std::vector<std::size_t> shape;
-    std::string what;
+    std::string what, repair_summary_text;
+    std::size_t triangles = 0;
+    Normalization norm;
     Box3 used;  // the bounds sampled, printed so that another run can reuse them
     bool from_mesh = false;
+    std::optional<bool> solid;
+    std::string check;
     try {
       if (!a->grid)
         require_memory(total_points, 32, "sampling " + std::to_string(total_points) + " points", "sample fewer points");
@@ -174,12 +236,18 @@ void register_sample(CLI::App& app) {
       std::optional<MeshField> own;
       std::optional<Model> model;
       const MeshField* mesh_field = nullptr;
+      if (a->normalize != "none" && format_from_extension(a->input) == MeshFormat::Unknown)
+        throw CLI::ValidationError("--normalize", "applies to meshes (.stl, .obj, .ply, .off) only");
       if (format_from_extension(a->input) != MeshFormat::Unknown) {
         MeshFieldOptions fo;
         fo.sign = a->sign == "winding" ? SignMethod::WindingNumber : SignMethod::Pseudonormal;
         fo.weld_tolerance = a->weld_tolerance;
         fo.threads = a->threads;
-        own.emplace(repaired_if_asked(read_mesh_noting(a->input), a->repair, a->quiet), fo);
+        TriMesh mesh = read_mesh_noting(a->input);
+        triangles = mesh.num_triangles();
+        mesh = repaired_if_asked(std::move(mesh), a->repair, a->quiet, &repair_summary_text);
+        norm = normalize_mesh(mesh, a->normalize);
+        own.emplace(mesh, fo);
         mesh_field = &*own;
         if (!own->solid() && !a->quiet)
           std::fprintf(stderr, "frep sample: %s: %s; signs from the winding number\n", a->input.c_str(),
@@ -193,8 +261,14 @@ void register_sample(CLI::App& app) {
       if (mesh_field) {
         from_mesh = true;
         const MeshField& field = *mesh_field;
-        const Box3 b = bounds ? *bounds : default_mesh_bounds(field.box());
+        // Normalized meshes share fixed bounds, so that grids of a data set line up voxel for voxel.
+        const double half = a->normalize == "unit-cube" ? 0.55 : 1.1;
+        const Box3 b = bounds                      ? *bounds
+                       : a->normalize == "none" ? default_mesh_bounds(field.box())
+                                                : Box3{{-half, -half, -half}, {half, half, half}};
         used = b;
+        solid = field.solid();
+        check = field.summary();
         if (a->grid) {
           MeshGridOptions go;
           go.threads = a->threads;
@@ -265,6 +339,21 @@ void register_sample(CLI::App& app) {
     else shape = {data.size() / 4, 4};
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     write_npy(a->output, data.data(), shape);
+    if (a->json) {
+      // One line, for scripts (frep dataset reads it): null where a field does not apply.
+      fmt::print("{{\"input\": {}, \"output\": {}, \"shape\": [{}], \"count\": {}, \"triangles\": {}, "
+                 "\"solid\": {}, \"check\": {}, \"repair\": {}, \"normalize\": {}, \"scale\": {}, "
+                 "\"offset\": [{}, {}, {}], \"bounds\": [{}, {}, {}, {}, {}, {}], \"seconds\": {}}}\n",
+                 json_str(a->input), json_str(a->output), fmt::join(shape, ", "), a->grid ? data.size() : data.size() / 4,
+                 from_mesh && triangles ? std::to_string(triangles) : "null",
+                 solid ? (*solid ? "true" : "false") : "null", solid ? json_str(check) : "null",
+                 a->repair ? json_str(repair_summary_text) : "null", json_str(norm.mode), json_num(norm.scale),
+                 json_num(norm.offset.x), json_num(norm.offset.y), json_num(norm.offset.z), json_num(used.lo.x),
+                 json_num(used.lo.y), json_num(used.lo.z), json_num(used.hi.x), json_num(used.hi.y),
+                 json_num(used.hi.z), json_num(secs));
+      std::fflush(stdout);
+      return;
+    }
     if (a->quiet) return;
     std::string dims;
     for (std::size_t s : shape) dims += (dims.empty() ? "" : " x ") + std::to_string(s);

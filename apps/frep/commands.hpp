@@ -61,6 +61,7 @@ void register_offset(CLI::App& app);
 void register_shell(CLI::App& app);
 void register_clearance(CLI::App& app);
 void register_repair(CLI::App& app);
+void register_dataset(CLI::App& app);
 
 inline void register_commands(CLI::App& app) {
   register_info(app);
@@ -73,6 +74,7 @@ inline void register_commands(CLI::App& app) {
   register_mesh(app);
   register_export(app);
   register_sample(app);
+  register_dataset(app);
   register_offset(app);
   register_shell(app);
   register_clearance(app);

@@ -54,11 +54,12 @@ void write_mesh_output(const std::string& path, const TriMesh& mesh, const std::
   write_mesh(path, mesh, o);
 }
 
-TriMesh repaired_if_asked(TriMesh mesh, bool repair, bool quiet) {
+TriMesh repaired_if_asked(TriMesh mesh, bool repair, bool quiet, std::string* summary) {
   if (!repair) return mesh;
   RepairOptions ro;
   ro.quiet = quiet;
   RepairResult r = make_solid(mesh, ro);
+  if (summary) *summary = repair_summary(r.report);
   if (r.report.changed) fmt::print(stderr, "frep: repaired {}: {}\n", mesh.name, repair_summary(r.report));
   r.mesh.name = mesh.name;
   return std::move(r.mesh);

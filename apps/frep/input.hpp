@@ -31,7 +31,8 @@ void add_units_option(CLI::App* cmd, std::string& value);
 // a valid solid, with the advice to write in smaller units.
 void write_mesh_output(const std::string& path, const TriMesh& mesh, const std::string& units);
 // `mesh`, repaired if `repair` (saying so on stderr unless quiet): for commands that read meshes themselves.
-TriMesh repaired_if_asked(TriMesh mesh, bool repair, bool quiet);
+// `summary`, when given, receives what the repair did (repair_summary) if it ran.
+TriMesh repaired_if_asked(TriMesh mesh, bool repair, bool quiet, std::string* summary = nullptr);
 
 // --lipschitz L: lets a command that subdivides space (render, mesh, offset, shell) assume
 // |f(p) - f(q)| <= L |p - q| (see FieldInfo::lipschitz). `value` stays negative unless given.
