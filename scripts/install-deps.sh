@@ -9,6 +9,7 @@ pkgs=(build-essential cmake ninja-build pkg-config
       tetgen        # frep convert --sign tets runs the separate tetgen program (AGPL: never linked)
       python3 python3-numpy  # scripts/make_example_mesh.py; tests check that numpy reads frep's .npy
       python3-dev python3-pybind11 pybind11-dev python3-pytest  # the Python package (python/) and its tests
+      python3-distributed  # Dask: frep dataset's scheduling (its tests run a local cluster)
       glslang-tools        # tests validate the GLSL export with glslangValidator
       texlive-latex-base)  # pdflatex: tests compile the LaTeX export's documents (article, amsmath, geometry)
 # Optional: libopenvdb-dev (the OpenVDB baselines of the sampling and meshing benchmarks).
