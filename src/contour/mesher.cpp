@@ -13,6 +13,7 @@
 #include "contour/assemble.hpp"
 #include "contour/mesher_steps.hpp"
 #include "frep/error.hpp"
+#include "frep/util/memory_budget.hpp"
 
 namespace frep {
 namespace contour {
@@ -101,6 +102,33 @@ double cell_edge(const Box3& region, const MeshOptions& o) {
   const double h = o.cell_size > 0 ? o.cell_size : longest / o.resolution;
   if (!(h > 0) || !std::isfinite(h)) throw InputError("", 0, "the region to mesh has no extent");
   return h;
+}
+
+std::uint64_t estimate_surface_cells(const Tape& tape, const MeshOptions& o, const MeshRegion& region, double h) {
+  double longest = 0;
+  for (int a = 0; a < 3; ++a) longest = std::max(longest, region.box.hi[a] - region.box.lo[a]);
+  const double cells = longest / h;
+  // Past the per-axis limit the grid itself refuses, more precisely than an estimate would.
+  if (!(cells > kPilotAbove) || cells > kMaxMeshResolution) return 0;
+  MeshOptions pilot = o;
+  pilot.resolution = kPilotCells;
+  pilot.cell_size = 0;
+  pilot.tiles.clear();
+  pilot.progress = nullptr;
+  // The same region: given bounds as given, a found or known one as known (no second search).
+  if (!region.found()) pilot.bounds = region.box;
+  else pilot.known_bounds = region.box;
+  MeshStats st;
+  mesh_expression(tape, pilot, &st);
+  const double scale = cells / kPilotCells;
+  return static_cast<std::uint64_t>(std::ceil(static_cast<double>(st.surface_cells) * scale * scale));
+}
+
+void require_mesh_memory(const Tape& tape, const MeshOptions& o, const MeshRegion& region) {
+  const std::uint64_t cells = estimate_surface_cells(tape, o, region, cell_edge(region.box, o));
+  if (cells == 0) return;
+  require_memory(cells, kBytesPerSurfaceCell, "meshing " + std::to_string(cells) + " cells with surface (estimated from a coarse pass)",
+                 "use a lower resolution or a larger cell, or mesh a smaller region with --bounds");
 }
 
 // A smaller L for f alone would settle boxes wrongly where the box's distance applies (a region
@@ -327,6 +355,7 @@ TriMesh Mesher::mesh(const Tape& tape) {
   MeshControl control(o);
   const MeshRegion region = find_region(tape, o, control, st);
   if (region.empty) return TriMesh{};
+  require_mesh_memory(tape, o, region);
   GridPasses passes(tape, o, region, impl_->sub, control, st);
   const MeshPass pass = [&](double shift) { return passes.run(shift); };
   TriMesh mesh = first_mesh(pass, region.found(), st);

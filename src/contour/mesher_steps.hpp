@@ -53,6 +53,21 @@ MeshRegion find_region(const Tape& tape, const MeshOptions& o, MeshControl& cont
 // Throws InputError if that is not a positive number.
 double cell_edge(const Box3& region, const MeshOptions& o);
 
+// Memory a mesh takes per cell with surface in it, at its peak: leaves, vertices, polygons and
+// the output (measured: about 300 bytes on a cube at 512 cells across, the same at 256).
+inline constexpr std::uint64_t kBytesPerSurfaceCell = 320;
+// Fine grids (more than kPilotAbove cells across) are preceded by a pilot at kPilotCells across.
+inline constexpr int kPilotAbove = 512, kPilotCells = 128;
+
+// The surface cells a grid of cell edge `h` over `region` will have, estimated from a pilot mesh
+// at kPilotCells across (surface scales with the square of the resolution); 0 for grids of at
+// most kPilotAbove cells across, which need no pilot, and for grids past kMaxMeshResolution,
+// which make_grid refuses.
+std::uint64_t estimate_surface_cells(const Tape& tape, const MeshOptions& o, const MeshRegion& region, double h);
+// Throws InputError (without a file name) with the estimate when the grid would need more memory
+// than the machine has, before any of the fine work.
+void require_mesh_memory(const Tape& tape, const MeshOptions& o, const MeshRegion& region);
+
 // The Lipschitz bound of the field closed at a box (max(f, box)): at least 1, the box's own.
 double cut_lipschitz(double lipschitz);
 

@@ -21,6 +21,8 @@
 #include "frep/error.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/expr/expr.hpp"
+#include "frep/contour/mesher.hpp"
+#include "frep/util/memory_budget.hpp"
 
 namespace frep::contour {
 namespace {
@@ -436,6 +438,63 @@ TEST(MesherSteps, RetriesKeepTheLeastTangledMesh) {
     FakePasses f{st, {}, {}, {}, {}};
     EXPECT_THROW(retry_while_unresolved(mesh_at(0), std::ref(f), [] { return true; }, st), MeshCancelled);
     EXPECT_TRUE(f.shifts.empty());
+  }
+}
+
+}  // namespace
+}  // namespace frep::contour
+
+namespace frep::contour {
+namespace {
+
+// The pilot's estimate of surface cells against the real count on a grid just past the pilot
+// threshold (cheap enough to mesh here): a sphere and a box, within 15%.
+TEST(MesherMemory, PilotEstimatesTheSurfaceCells) {
+  for (int shape = 0; shape < 2; ++shape) {
+    Graph g;
+    const Expr x = g.x(), y = g.y(), z = g.z();
+    const Expr f = shape == 0 ? sqrt(square(x) + square(y) + square(z)) - 1.0f
+                              : max(max(abs(x) - 0.9f, abs(y) - 0.5f), abs(z) - 0.7f);
+    const Tape tape = Tape::compile(g, f.id());
+    MeshOptions o;
+    o.resolution = kPilotAbove + 88;
+    o.bounds = Box3{{-1.1, -1.1, -1.1}, {1.1, 1.1, 1.1}};
+    MeshRegion region;
+    region.box = o.bounds;
+    const std::uint64_t estimate = estimate_surface_cells(tape, o, region, cell_edge(region.box, o));
+    MeshStats st;
+    mesh_expression(tape, o, &st);
+    ASSERT_GT(st.surface_cells, 0u);
+    EXPECT_NEAR(static_cast<double>(estimate) / static_cast<double>(st.surface_cells), 1.0, 0.15) << "shape " << shape;
+    // At or below the threshold no pilot runs.
+    o.resolution = kPilotAbove;
+    EXPECT_EQ(estimate_surface_cells(tape, o, region, cell_edge(region.box, o)), 0u);
+  }
+}
+
+// A grid whose estimate exceeds the machine's memory is refused at once, naming the estimate,
+// instead of being killed for lack of memory. The cube at 4096 cells across (allowed) needs about
+// 100 million surface cells.
+TEST(MesherMemory, GridsBeyondMemoryAreRefusedBeforeTheWork) {
+  Graph g;
+  const Expr x = g.x(), y = g.y(), z = g.z();
+  const Expr f = max(max(abs(x) - 1.0f, abs(y) - 1.0f), abs(z) - 1.0f);
+  const Tape tape = Tape::compile(g, f.id());
+  MeshOptions o;
+  o.resolution = kMaxMeshResolution;
+  o.known_bounds = Box3{{-1, -1, -1}, {1, 1, 1}};
+  MeshRegion region;
+  region.box = o.known_bounds;
+  region.margin = 1;
+  const std::uint64_t estimate = estimate_surface_cells(tape, o, region, cell_edge(region.box, o));
+  EXPECT_NEAR(static_cast<double>(estimate), 6.0 * kMaxMeshResolution * kMaxMeshResolution, 0.2 * 6.0 * kMaxMeshResolution * kMaxMeshResolution);
+  if (physical_memory_bytes() > estimate * kBytesPerSurfaceCell)
+    GTEST_SKIP() << "this machine has the memory for it: the refusal is not reached";
+  try {
+    mesh_expression(tape, o);
+    FAIL() << "meshed a grid beyond the machine's memory";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("GB of memory"), std::string::npos) << e.what();
   }
 }
 
