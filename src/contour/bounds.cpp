@@ -2,6 +2,7 @@
 // the expression may be negative and zooming in on their bounding box.
 #include "frep/contour/bounds.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -18,6 +19,72 @@ std::vector<int> tiles_for(int cells) {
   std::vector<int> t{1};
   while (t.front() * 4 < cells) t.insert(t.begin(), t.front() * 4);
   return t;
+}
+
+// Why the interval search could not bound the inside, told from samples on nested cubes
+// (+-limit down to +-1, 32^3 points each, so that a shape a few units across is seen whatever the
+// limit): NaN everywhere, negative far out (unbounded), or negative only near the origin
+// (bounded, but intervals too wide to prove it), with the region to give.
+std::string unproven_bound_message(const Tape& tape, double limit, int axis) {
+  PointEvaluator pe;
+  Box3 negative;
+  std::uint64_t samples = 0, nan = 0;
+  constexpr int kSide = 32;
+  for (double r = limit; r >= 0.999; r /= 10)
+    for (int i = 0; i < kSide; ++i)
+      for (int j = 0; j < kSide; ++j)
+        for (int k = 0; k < kSide; ++k) {
+          // Cell centres, so that no sample sits on a symmetry plane through the origin.
+          const Vec3 p{-r + 2 * r * (i + 0.5) / kSide, -r + 2 * r * (j + 0.5) / kSide, -r + 2 * r * (k + 0.5) / kSide};
+          const float v = pe.eval(tape, static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));
+          ++samples;
+          if (std::isnan(v)) ++nan;
+          else if (v < 0) negative.add(p);
+        }
+  char msg[700];
+  if (nan == samples) {
+    std::snprintf(msg, sizeof msg,
+                  "the expression is NaN (undefined) at every one of %llu points sampled within +-%g: there is no "
+                  "inside to find",
+                  static_cast<unsigned long long>(samples), limit);
+    return msg;
+  }
+  const double reach = std::max({std::fabs(negative.lo.x), std::fabs(negative.lo.y), std::fabs(negative.lo.z),
+                                 std::fabs(negative.hi.x), std::fabs(negative.hi.y), std::fabs(negative.hi.z)});
+  // The finest sampled cube holding every negative sample: negatives in its outer layer of
+  // samples may go on beyond it (a thin cylinder is missed by the coarser cubes' samples).
+  double cube = limit;
+  while (cube / 10 >= 0.999 && cube / 10 >= reach) cube /= 10;
+  const double spacing = 2 * cube / kSide;
+  if (!negative.empty() && (reach > 0.5 * limit || reach > cube - 1.5 * spacing)) {
+    std::snprintf(msg, sizeof msg,
+                  "the expression is negative as far as %g from the origin among the points sampled, and may go on "
+                  "beyond (the search limit is +-%g): it looks unbounded (a half-space, a 2D shape, a lattice...); "
+                  "give the region with --bounds x0,y0,z0,x1,y1,z1",
+                  reach, limit);
+    return msg;
+  }
+  if (negative.empty()) {
+    std::snprintf(msg, sizeof msg,
+                  "interval arithmetic could not prove where the expression is negative (it may be, as far as "
+                  "+-%g along %c), and no point sampled within that is negative: the shape is thin or empty; give "
+                  "the region with --bounds x0,y0,z0,x1,y1,z1",
+                  limit, "xyz"[axis]);
+    return msg;
+  }
+  // Grown by the sample spacing (the surface may lie up to a spacing beyond the last negative
+  // sample), and a tenth more.
+  const Vec3 size = negative.size();
+  const double pad = 0.1 * std::max({size.x, size.y, size.z}) + spacing;
+  const Box3 b = negative.inflated(pad);
+  std::snprintf(msg, sizeof msg,
+                "interval arithmetic could not prove a bound (its intervals far from the origin cover both signs, "
+                "as far as +-%g along %c), but every negative point among %llu sampled lies within %.3g, %.3g, "
+                "%.3g .. %.3g, %.3g, %.3g: if that is the shape, give --bounds %.3g,%.3g,%.3g,%.3g,%.3g,%.3g",
+                limit, "xyz"[axis], static_cast<unsigned long long>(samples), negative.lo.x, negative.lo.y,
+                negative.lo.z, negative.hi.x, negative.hi.y, negative.hi.z, b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y,
+                b.hi.z);
+  return msg;
 }
 
 }  // namespace
@@ -97,15 +164,8 @@ BoundsResult find_bounds(const Tape& tape, const BoundsSearchOptions& o) {
     }
     if (round == 0) {
       for (int a = 0; a < 3; ++a)
-        if (next.lo[a] <= grid.coords[a].front() || next.hi[a] >= grid.coords[a].back()) {
-          char msg[400];
-          std::snprintf(msg, sizeof msg,
-                        "the expression may be negative as far as the search limit (+-%g) along %c: it looks "
-                        "unbounded (a half-space, a 2D shape, a lattice...); give the region with "
-                        "--bounds x0,y0,z0,x1,y1,z1",
-                        o.limit, "xyz"[a]);
-          throw InputError("", 0, msg);
-        }
+        if (next.lo[a] <= grid.coords[a].front() || next.hi[a] >= grid.coords[a].back())
+          throw InputError("", 0, unproven_bound_message(tape, o.limit, a));
     }
     double moved = 0;
     for (int a = 0; a < 3; ++a) {

@@ -3,6 +3,8 @@
 // unbounded fields); options are checked; progress is reported and a cancel flag stops the run.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -216,7 +218,39 @@ TEST(Mesher, BoundsSearch) {
       ADD_FAILURE() << "an unbounded field was meshed";
     } catch (const InputError& err) {
       EXPECT_NE(std::string(err.what()).find("--bounds"), std::string::npos) << err.what();
+      EXPECT_NE(std::string(err.what()).find("unbounded"), std::string::npos) << err.what();
     }
+  }
+}
+
+// When intervals cannot bound the inside, the error says why, from samples: NaN everywhere, or
+// bounded but unprovable (with the region to give, which must hold the shape).
+TEST(Mesher, UnprovenBoundsAreExplained) {
+  Graph g;
+  auto x = g.x(), y = g.y(), z = g.z();
+  const auto message = [&](const Expr& e) -> std::string {
+    try {
+      mesh_expression(e, options(16, Box3{}));
+    } catch (const InputError& err) {
+      return err.what();
+    }
+    return "(meshed)";
+  };
+  // sqrt of a negative number everywhere.
+  const std::string nan = message(sqrt(-1.0f - square(x)));
+  EXPECT_NE(nan.find("NaN"), std::string::npos) << nan;
+  // A ball of radius 2 plus square(x) - x * x: exactly 0, but the intervals of the two terms
+  // differ wherever x's interval holds 0, so the search never proves the far boxes positive.
+  const std::string ball = message(sqrt(square(x) + square(y) + square(z)) - 2.0f - (square(x) - x * x));
+  EXPECT_NE(ball.find("could not prove"), std::string::npos) << ball;
+  const auto at = ball.find("give --bounds ");
+  ASSERT_NE(at, std::string::npos) << ball;
+  double b[6];
+  ASSERT_EQ(std::sscanf(ball.c_str() + at + 14, "%lf,%lf,%lf,%lf,%lf,%lf", &b[0], &b[1], &b[2], &b[3], &b[4], &b[5]), 6);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_LE(b[a], -2.0) << ball;
+    EXPECT_GE(b[a + 3], 2.0) << ball;
+    EXPECT_LE(b[a + 3], 4.0) << "a useful region, not the search cube: " << ball;
   }
 }
 
