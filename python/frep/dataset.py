@@ -264,10 +264,15 @@ def _duration(s):
 
 
 def _find_frep(frep):
-    cand = frep or os.environ.get("FREP_CLI") or shutil.which("frep")
-    if not cand or not os.path.exists(cand):
-        raise FileNotFoundError("the frep program was not found: pass frep=PATH (--frep) or set FREP_CLI")
-    return os.path.abspath(cand)
+    # Given, then $FREP_CLI, then the program beside the package in a build folder
+    # (build/python/frep -> build/frep), then the one on PATH (an installed frep).
+    beside = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "frep")
+    for cand in (frep, os.environ.get("FREP_CLI"), beside if os.path.isfile(beside) else None, shutil.which("frep")):
+        if cand:
+            if not os.path.exists(cand):
+                raise FileNotFoundError(f"the frep program was not found at {cand}")
+            return os.path.abspath(cand)
+    raise FileNotFoundError("the frep program was not found: pass frep=PATH (--frep), set FREP_CLI, or put frep on PATH")
 
 
 def _register_by_value():
