@@ -39,6 +39,7 @@ void register_mesh(CLI::App& app) {
     std::vector<double> bounds;
     int threads = 0, snap_iterations = 4;
     double lipschitz = -1;
+    std::string max_error = kDefaultMaxError;
     bool quiet = false, repair = false;
   };
   auto a = std::make_shared<Args>();
@@ -88,6 +89,7 @@ void register_mesh(CLI::App& app) {
       ->check(CLI::Range(0, 1024));
   cmd->add_flag("--quiet,-q", a->quiet, "Print nothing but errors");
   add_lipschitz_option(cmd, a->lipschitz);
+  add_max_error_option(cmd, a->max_error);
   add_repair_option(cmd, a->repair);
   cmd->callback([a, res, cell] {
     if (res->count() == 0 && cell->count() == 0)
@@ -108,6 +110,7 @@ void register_mesh(CLI::App& app) {
     o.snap.gradient = a->gradient == "central" ? SnapGradient::CentralDifferences : SnapGradient::Analytic;
     o.snap.iterations = a->snap_iterations;
     o.threads = a->threads;
+    set_max_error(a->max_error, o);
     check_output_path(a->output, a->input);
 
     const Model m = load_input(a->input, a->quiet, nullptr, a->repair);

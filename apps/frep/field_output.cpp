@@ -50,6 +50,7 @@ void add_field_output_options(CLI::App* cmd, const std::shared_ptr<FieldOutputOp
   add_repair_option(cmd, o->repair);
   add_lipschitz_option(cmd, o->lipschitz);
   add_units_option(cmd, o->units);
+  add_max_error_option(cmd, o->max_error);
 }
 
 void check_field_output_options(const FieldOutputOptions& o) {
@@ -102,6 +103,7 @@ void write_field_output(const std::string& input, const std::string& path, const
   mo.resolution = o.resolution;
   mo.threads = o.threads;
   mo.lipschitz = std::max(0.0, o.lipschitz);
+  set_max_error(o.max_error, mo);
   if (!o.bounds.empty())
     mo.bounds = region;  // exactly as given: cut and capped where the shape reaches it
   else

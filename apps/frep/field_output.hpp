@@ -22,9 +22,10 @@ struct FieldOutputOptions {
   bool repair = false;  // --repair: repair a broken input mesh first
   double lipschitz = -1;       // --lipschitz, or < 0 if not given; commands resolve it with lipschitz_of
   std::string units = "mm";    // --units: a .3mf output's length unit
+  std::string max_error = "0.05c";  // --max-error: simplification bound (model units, or Nc cells)
 };
 
-// Adds --resolution, --bounds, --threads, --quiet, --repair, --lipschitz and --units, stored in `o` (which must outlive parsing).
+// Adds --resolution, --bounds, --threads, --quiet, --repair, --lipschitz, --units and --max-error, stored in `o` (which must outlive parsing).
 void add_field_output_options(CLI::App* cmd, const std::shared_ptr<FieldOutputOptions>& o);
 // Checks what CLI11 cannot (finite, non-empty bounds); throws CLI::ValidationError.
 void check_field_output_options(const FieldOutputOptions& o);

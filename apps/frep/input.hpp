@@ -37,6 +37,13 @@ TriMesh repaired_if_asked(TriMesh mesh, bool repair, bool quiet, std::string* su
 // --lipschitz L: lets a command that subdivides space (render, mesh, offset, shell) assume
 // |f(p) - f(q)| <= L |p - q| (see FieldInfo::lipschitz). `value` stays negative unless given.
 void add_lipschitz_option(CLI::App* cmd, double& value);
+
+// --max-error E (model units) or Nc (N cells): the bound of the simplification after meshing
+// (MeshOptions::max_error); 0 keeps the uniform mesh. Default 0.05c. `set_max_error` puts a
+// checked value in the options.
+inline constexpr const char* kDefaultMaxError = "0.05c";
+void add_max_error_option(CLI::App* cmd, std::string& value);
+void set_max_error(const std::string& value, MeshOptions& o);
 // The bound to use: the option's value if given, else the model's own (1 for a converted mesh or
 // a file frep convert wrote; 0, unknown, for other files).
 inline double lipschitz_of(const Model& m, double option) { return option >= 0 ? option : m.info.lipschitz; }

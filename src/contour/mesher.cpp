@@ -12,7 +12,9 @@
 
 #include "contour/assemble.hpp"
 #include "contour/mesher_steps.hpp"
+#include "contour/simplify.hpp"
 #include "frep/error.hpp"
+#include "frep/mesh/validate.hpp"
 #include "frep/util/memory_budget.hpp"
 
 namespace frep {
@@ -32,6 +34,7 @@ void check_options(const MeshOptions& o) {
   if (o.cell_size == 0 && (o.resolution < 1 || o.resolution > kMaxMeshResolution))
     bad_option("the resolution must be between 1 and " + std::to_string(kMaxMeshResolution) + " cells, got " +
                std::to_string(o.resolution));
+  if (!(o.max_error >= 0) || !std::isfinite(o.max_error)) bad_option("the maximum error must be a finite number >= 0");
   if (!o.bounds.empty()) {
     for (int a = 0; a < 3; ++a) {
       if (!std::isfinite(o.bounds.lo[a]) || !std::isfinite(o.bounds.hi[a])) bad_option("the bounds must be finite");
@@ -328,6 +331,29 @@ TriMesh retry_while_unresolved(TriMesh mesh, const MeshPass& pass, const std::fu
   return mesh;
 }
 
+// Simplifies the finished mesh in place (MeshOptions::max_error), then validates the result as a
+// solid: collapses are checked one by one, but a solid is what frep promises, so a result that
+// fails (never seen) gives way to the uniform mesh, said in the stats.
+void simplify_output(const Tape& tape, const MeshOptions& o, TriMesh& mesh, MeshStats& st) {
+  const auto t0 = Clock::now();
+  SimplifyOptions so;
+  so.cell_size = st.cell_size;
+  so.max_error = o.max_error_in_cells ? o.max_error * st.cell_size : o.max_error;
+  st.max_error = so.max_error;
+  st.triangles_before_simplify = mesh.triangles.size();
+  TriMesh simple = simplify_mesh(mesh, tape, so, nullptr);
+  ValidationOptions vo;
+  vo.threads = o.threads;
+  if (validate_mesh(simple, vo).is_solid()) {
+    mesh = std::move(simple);
+  } else {
+    st.simplify_rejected = true;
+  }
+  st.vertices = mesh.vertices.size();
+  st.triangles = mesh.triangles.size();
+  st.seconds_simplify = seconds_since(t0);
+}
+
 }  // namespace contour
 
 struct Mesher::Impl {
@@ -359,7 +385,11 @@ TriMesh Mesher::mesh(const Tape& tape) {
   GridPasses passes(tape, o, region, impl_->sub, control, st);
   const MeshPass pass = [&](double shift) { return passes.run(shift); };
   TriMesh mesh = first_mesh(pass, region.found(), st);
-  return retry_while_unresolved(std::move(mesh), pass, [&] { return control.cancelled(); }, st);
+  mesh = retry_while_unresolved(std::move(mesh), pass, [&] { return control.cancelled(); }, st);
+  // Only a mesh without unresolved vertices is a solid to start from: the checks of every
+  // collapse assume one.
+  if (o.max_error > 0 && st.unresolved == 0 && !mesh.triangles.empty()) simplify_output(tape, o, mesh, st);
+  return mesh;
 }
 
 TriMesh mesh_expression(const Tape& tape, const MeshOptions& options, MeshStats* stats) {

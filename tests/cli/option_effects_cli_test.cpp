@@ -360,13 +360,14 @@ TEST_F(OptionEffects, ConvertThreadsLeaveTheResultAlone) {
 // --snap-iterations: Newton steps moving the snap method's vertices onto the surface. With none
 // they stay where the voxels put them; each step brings them closer (the worst and the mean
 // distance to the ball's surface fall); the vertices and triangles are as many (each quad's
-// diagonal follows the moved corners). Dual contouring ignores it.
+// diagonal follows the moved corners). Dual contouring ignores it. Unsimplified (--max-error 0),
+// so that the vertices are the snap's own.
 TEST_F(OptionEffects, MeshSnapIterationsMoveVerticesOntoTheSurface) {
   const std::string ball_vm = ball("ball.vm", 0.1f, 0.6f);
   std::vector<TriMesh> meshes;
   for (int steps : {0, 1, 4}) {
     const std::string out = path("snap" + std::to_string(steps) + ".obj");
-    const CliRun r = run("mesh " + ball_vm + " -q -r 16 --method snap --snap-iterations " + std::to_string(steps) + " -o " +
+    const CliRun r = run("mesh " + ball_vm + " -q -r 16 --max-error 0 --method snap --snap-iterations " + std::to_string(steps) + " -o " +
                          test::shell_quote(out));
     ASSERT_EQ(r.code, 0) << r.err;
     meshes.push_back(read_mesh(out));

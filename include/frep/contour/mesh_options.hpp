@@ -65,6 +65,13 @@ struct MeshOptions {
   // The snap method: Newton steps along the gradient from the voxel corners.
   SnapOptions snap;
 
+  // Simplification of the finished mesh: edges are collapsed while every new triangle keeps
+  // |f| <= max_error at samples at most half a cell apart (docs/meshing.md), in model units, or
+  // in cells when max_error_in_cells. 0 (the library's default, so meshes stay as they were):
+  // the uniform mesh as is. The CLI's default is 0.05 cells.
+  double max_error = 0;
+  bool max_error_in_cells = false;
+
   // Advanced: subdivision box edge per level in cells, largest first, each a multiple of the
   // next; the last is the leaf, evaluated cell by cell (at most 32). Empty: leaves of 8 cells,
   // levels growing by 4 (by 2 with a Lipschitz bound).
@@ -101,6 +108,13 @@ struct MeshStats {
   // grids moved by 0.37 and 0.71 of a cell, and the one with the fewest kept (`unresolved`).
   std::size_t unresolved_first = 0;
   double seconds_bounds = 0, seconds_cells = 0, seconds_assembly = 0;
+  // Simplification (MeshOptions::max_error > 0): the triangles before it (0 if it did not run),
+  // the bound used in model units, its time, and whether its result failed validation, in which
+  // case the uniform mesh was kept.
+  std::size_t triangles_before_simplify = 0;
+  double max_error = 0;
+  double seconds_simplify = 0;
+  bool simplify_rejected = false;
 };
 
 class MeshCancelled : public std::runtime_error {
