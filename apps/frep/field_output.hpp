@@ -22,7 +22,7 @@ struct FieldOutputOptions {
   bool repair = false;  // --repair: repair a broken input mesh first
   double lipschitz = -1;       // --lipschitz, or < 0 if not given; commands resolve it with lipschitz_of
   std::string units = "mm";    // --units: a .3mf output's length unit
-  std::string max_error = "0.05c";  // --max-error: simplification bound (model units, or Nc cells)
+  std::string max_error = "0";  // --max-error: simplification bound (model units, or Nc cells; 0: none)
 };
 
 // Adds --resolution, --bounds, --threads, --quiet, --repair, --lipschitz, --units and --max-error, stored in `o` (which must outlive parsing).
