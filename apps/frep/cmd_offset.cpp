@@ -9,7 +9,6 @@
 #include "commands.hpp"
 #include "field_output.hpp"
 #include "input.hpp"
-#include "frep/contour/bounds.hpp"
 #include "frep/ugf/offset.hpp"
 
 namespace frep::cli {
@@ -46,15 +45,9 @@ void register_offset(CLI::App& app) {
     Field input = field_of(m);
     input.info.lipschitz = std::max(0.0, o->lipschitz);
     const Field result = ugf::offset(input, static_cast<float>(a->distance));
-    FieldInfo info = result.info;
-    // Compiled once, and only if needed: for the bounds check or the mesh.
     const bool mesh_out = is_mesh_output(a->output);
-    const bool check = info.bounds.empty() && !m.info.bounds.empty();
     std::optional<Tape> tape;
-    if (mesh_out || check) tape = Tape::compile(*m.graph, result.expr.id());
-    // The input's box, when its growth is unknown: grown by the distance if the result proves
-    // positive around it.
-    if (check) info.bounds = checked_bounds(*tape, m.info.bounds.inflated(std::max(a->distance, 0.0)));
+    const FieldInfo info = output_facts(result, m, a->distance, mesh_out, tape);
     // Only a mesh output needs the region (an expression is saved whatever its bounds).
     const Box3 region = mesh_out ? input_region(a->input, info, *tape, *o) : Box3{};
     write_field_output(a->input, a->output, *m.graph, result.expr.id(), region, *o, info, tape ? &*tape : nullptr);

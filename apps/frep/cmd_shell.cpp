@@ -9,7 +9,6 @@
 #include "commands.hpp"
 #include "field_output.hpp"
 #include "input.hpp"
-#include "frep/contour/bounds.hpp"
 #include "frep/ugf/offset.hpp"
 
 namespace frep::cli {
@@ -55,15 +54,10 @@ void register_shell(CLI::App& app) {
     f.info.lipschitz = std::max(0.0, o->lipschitz);
     const bool outward = a->side == "outward", inward = a->side == "inward";
     const Field result = inward ? ugf::shell_inward(f, t) : outward ? ugf::shell_outward(f, t) : ugf::shell(f, t);
-    FieldInfo info = result.info;
     const bool mesh_out = is_mesh_output(a->output);
-    const bool check = info.bounds.empty() && !m.info.bounds.empty();
-    std::optional<Tape> tape;  // compiled once, and only if needed
-    if (mesh_out || check) tape = Tape::compile(*m.graph, result.expr.id());
-    // The input's box, when its growth is unknown: grown by what the wall adds outside if the
-    // result proves positive around it.
-    if (check)
-      info.bounds = checked_bounds(*tape, m.info.bounds.inflated(inward ? 0.0 : outward ? a->thickness : a->thickness / 2));
+    std::optional<Tape> tape;
+    // The wall reaches beyond the input's surface by what it adds outside.
+    const FieldInfo info = output_facts(result, m, inward ? 0.0 : outward ? a->thickness : a->thickness / 2, mesh_out, tape);
     if (mesh_out) {
       const Box3 region = input_region(a->input, info, *tape, *o);
       const Vec3 size = region.size();

@@ -91,6 +91,14 @@ Box3 input_region(const std::string& input, const FieldInfo& info, const Tape& t
   }
 }
 
+FieldInfo output_facts(const Field& result, const Model& input, double reach, bool mesh_out, std::optional<Tape>& tape) {
+  FieldInfo info = result.info;
+  const bool check = info.bounds.empty() && !input.info.bounds.empty();
+  if (mesh_out || check) tape = Tape::compile(result.graph(), result.id());
+  if (check) info.bounds = checked_bounds(*tape, input.info.bounds.inflated(std::max(reach, 0.0)));
+  return info;
+}
+
 void write_field_output(const std::string& input, const std::string& path, const Graph& g, NodeId root,
                         const Box3& region, const FieldOutputOptions& o, const FieldInfo& info, const Tape* tape) {
   if (!is_mesh_output(path)) {

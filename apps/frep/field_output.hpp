@@ -4,11 +4,13 @@
 
 #include <CLI/CLI.hpp>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "frep/convert/convert.hpp"
 #include "frep/eval/tape.hpp"
+#include "frep/model/field.hpp"
 #include "frep/expr/graph.hpp"
 #include "frep/math/vec.hpp"
 
@@ -46,6 +48,12 @@ void check_field_output(const std::string& path, const std::string& input);
 // (FieldInfo::bounds: a mesh's bounding box), else found by interval search of the tape.
 // InputError naming `input` if the field is unbounded or empty.
 Box3 input_region(const std::string& input, const FieldInfo& info, const Tape& tape, const FieldOutputOptions& o);
+
+// The facts of an operation's result: its own (the Field rules), or, where those leave the box
+// unknown but the input had one, the input's box grown by `reach` if interval arithmetic proves
+// the result positive around it (checked_bounds). `tape` is compiled for that check, or for a
+// mesh output, and only then.
+FieldInfo output_facts(const Field& result, const Model& input, double reach, bool mesh_out, std::optional<Tape>& tape);
 
 // Writes the field `root` of `g` to `path`: as an expression, or meshed by dual contouring with
 // `region` as the known box of its inside (one extra cell on every side), or over the given

@@ -46,13 +46,14 @@ void add_units_option(CLI::App* cmd, std::string& value) {
 void write_mesh_output(const std::string& path, const TriMesh& mesh, const std::string& units) {
   MeshWriteOptions o;
   o.units = length_unit_from_name(units).value_or(LengthUnit::Millimeter);
-  if (format_from_extension(path) == MeshFormat::ThreeMf) {
-    const ValidationReport stored = validate_mesh(as_3mf_stores(mesh));
-    if (!stored.is_solid() && validate_mesh(mesh).is_solid())
-      throw InputError(path, 0, "3MF keeps six decimals of each coordinate, and the mesh rounded so is no longer a valid solid (" +
-                                    stored.summary() + "): write .stl, .obj or .ply, or give coordinates in smaller units");
-  }
-  write_mesh(path, mesh, o);
+  if (format_from_extension(path) != MeshFormat::ThreeMf) return write_mesh(path, mesh, o);
+  // Serialized once: what is checked is read back from the very bytes that are written.
+  const std::string bytes = write_3mf(mesh, o.units);
+  const ValidationReport stored = validate_mesh(read_3mf(bytes, path));
+  if (!stored.is_solid() && validate_mesh(mesh).is_solid())
+    throw InputError(path, 0, "3MF keeps six decimals of each coordinate, and the mesh rounded so is no longer a valid solid (" +
+                                  stored.summary() + "): write .stl, .obj or .ply, or give coordinates in smaller units");
+  write_file_atomically(path, bytes);
 }
 
 TriMesh repaired_if_asked(TriMesh mesh, bool repair, bool quiet, std::string* summary) {

@@ -175,6 +175,15 @@ class Simplifier {
     for_cells(box_of(corners(t)), [&](std::uint64_t k) { hash_[k].push_back(t); });
   }
 
+  // The vertices of v's triangles (v among them), sorted and distinct, into `out`.
+  void ring(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    for (std::uint32_t t : vtris_[v])
+      for (int k = 0; k < 3; ++k) out.push_back(T_[t][k]);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  }
+
   bool try_collapse(std::uint32_t u, std::uint32_t v) {
     // (1) Topology: the edge has its two triangles, with opposite corners a != b; u and v share
     // no other neighbour (the link condition: the result stays a manifold); a and b keep at least
@@ -192,17 +201,9 @@ class Simplifier {
     if (n_edge != 2 || opp[0] == opp[1]) return false;
     if (vtris_[opp[0]].size() < 4 || vtris_[opp[1]].size() < 4) return false;
     ++stamp_;
-    nbr_u_.clear();
-    for (std::uint32_t t : vtris_[u])
-      for (int k = 0; k < 3; ++k) nbr_u_.push_back(T_[t][k]);
-    std::sort(nbr_u_.begin(), nbr_u_.end());
-    nbr_u_.erase(std::unique(nbr_u_.begin(), nbr_u_.end()), nbr_u_.end());
+    ring(u, nbr_u_);
+    ring(v, nbr_v_);
     int shared = 0;
-    nbr_v_.clear();
-    for (std::uint32_t t : vtris_[v])
-      for (int k = 0; k < 3; ++k) nbr_v_.push_back(T_[t][k]);
-    std::sort(nbr_v_.begin(), nbr_v_.end());
-    nbr_v_.erase(std::unique(nbr_v_.begin(), nbr_v_.end()), nbr_v_.end());
     for (std::uint32_t w : nbr_v_)
       if (w != u && w != v && std::binary_search(nbr_u_.begin(), nbr_u_.end(), w)) ++shared;
     if (shared != 2) return false;
@@ -300,11 +301,7 @@ class Simplifier {
     vdead_[u] = 1;
     Q_[v].add(Q_[u]);
     ++version_[v];
-    nbr_v_.clear();
-    for (std::uint32_t t : vtris_[v])
-      for (int k = 0; k < 3; ++k) nbr_v_.push_back(T_[t][k]);
-    std::sort(nbr_v_.begin(), nbr_v_.end());
-    nbr_v_.erase(std::unique(nbr_v_.begin(), nbr_v_.end()), nbr_v_.end());
+    ring(v, nbr_v_);
     for (std::uint32_t w : nbr_v_)
       if (w != v) push(w, v), push(v, w);
     return true;

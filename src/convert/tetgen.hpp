@@ -2,10 +2,11 @@
 // private to the converter. TetGen crashes on some inputs; every failure becomes an InputError.
 //
 // The process model (what a program that calls convert_mesh with SignMode::Tetrahedra gets):
-// - Files. A scratch directory frep-tetgen-XXXXXX is made under $TMPDIR (else /tmp) with the
-//   surface as in.smesh; TetGen writes in.1.node and in.1.ele there, and its stdout and stderr go
-//   to tetgen.log there (no pipes, so nothing can fill up and stall; the log's tail is quoted in
-//   error messages). The directory is removed when tetrahedralize returns or throws.
+// - Files. A scratch directory frep-tetgen-<6 random characters> (mkdtemp) is made under $TMPDIR
+//   (else /tmp) with the surface as in.smesh; TetGen writes in.1.node and in.1.ele there, and
+//   its stdout and stderr go to tetgen.log there (no pipes, so nothing can fill up and stall;
+//   the log's tail is quoted in error messages). The directory is removed when tetrahedralize
+//   returns or throws.
 // - Starting. The calling thread fork()s; the child, using only async-signal-safe calls (the
 //   program may have other threads), puts itself in a process group of its own, asks for SIGKILL
 //   when its parent dies (PR_SET_PDEATHSIG: a program killed outright takes TetGen with it), takes

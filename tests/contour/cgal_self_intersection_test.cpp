@@ -3,31 +3,18 @@
 // pair predicate the mesher's repair step also uses: a bug there would pass both).
 #include <gtest/gtest.h>
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/self_intersections.h>
-#include <CGAL/Surface_mesh.h>
 
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "cgal_test_util.hpp"
 #include "frep/contour/mesher.hpp"
 #include "frep/mesh/validate.hpp"
 #include "frep/script/load.hpp"
 
 namespace frep {
 namespace {
-
-using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Mesh = CGAL::Surface_mesh<K::Point_3>;
-
-bool cgal_self_intersects(const TriMesh& tri) {
-  Mesh m;
-  std::vector<Mesh::Vertex_index> vs;
-  for (const Vec3& v : tri.vertices) vs.push_back(m.add_vertex(K::Point_3(v.x, v.y, v.z)));
-  for (const Triangle& t : tri.triangles) m.add_face(vs[t[0]], vs[t[1]], vs[t[2]]);
-  return CGAL::Polygon_mesh_processing::does_self_intersect(m);
-}
 
 // Expressions with sharp features, thin parts and saddles, and the shared models.
 TEST(MesherCgal, OutputsDoNotSelfIntersect) {
@@ -56,7 +43,7 @@ TEST(MesherCgal, OutputsDoNotSelfIntersect) {
       const TriMesh mesh = mesh_expression(m.root_expr(), o);
       ASSERT_FALSE(mesh.triangles.empty()) << name;
       EXPECT_TRUE(validate_mesh(mesh).is_solid()) << name << " at " << res;
-      EXPECT_FALSE(cgal_self_intersects(mesh)) << name << " at " << res << ": CGAL finds triangles crossing";
+      EXPECT_FALSE(test::cgal_self_intersects(mesh)) << name << " at " << res << ": CGAL finds triangles crossing";
     }
   }
 }

@@ -5,9 +5,6 @@
 // samples), and max_error 0 leaves the uniform mesh exactly as it was.
 #include <gtest/gtest.h>
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/self_intersections.h>
-#include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
 #include <array>
@@ -22,6 +19,7 @@
 #include <vector>
 
 #include "contour_test_util.hpp"
+#include "cgal_test_util.hpp"
 #include "frep/contour/mesher.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/mesh/validate.hpp"
@@ -29,17 +27,6 @@
 
 namespace frep {
 namespace {
-
-using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-using CgalMesh = CGAL::Surface_mesh<K::Point_3>;
-
-bool cgal_self_intersects(const TriMesh& tri) {
-  CgalMesh m;
-  std::vector<CgalMesh::Vertex_index> vs;
-  for (const Vec3& v : tri.vertices) vs.push_back(m.add_vertex(K::Point_3(v.x, v.y, v.z)));
-  for (const Triangle& t : tri.triangles) m.add_face(vs[t[0]], vs[t[1]], vs[t[2]]);
-  return CGAL::Polygon_mesh_processing::does_self_intersect(m);
-}
 
 // The largest |f| at the triangles' corners and at `per_triangle` random points of every triangle.
 double max_abs_field(const TriMesh& m, const Tape& tape, int per_triangle) {
@@ -111,7 +98,7 @@ TEST(MeshSimplify, BoxKeepsItsCornersAndFlatFacesBecomeFewTriangles) {
     EXPECT_LT(after, 1e-6) << "corner " << c << " moved";
   }
   EXPECT_LE(max_abs_field(simple, tape, 20), st.max_error * (1 + 1e-6));
-  EXPECT_FALSE(cgal_self_intersects(simple));
+  EXPECT_FALSE(test::cgal_self_intersects(simple));
 }
 
 TEST(MeshSimplify, ZeroErrorIsTheUniformMeshExactly) {
@@ -154,7 +141,7 @@ TEST(MeshSimplify, BracketAtTheDemoResolution) {
   const double worst = max_abs_field(simple, tape, 10);
   std::fprintf(stderr, "bracket: max |f| at vertices and random face points %.3g (bound %.3g)\n", worst, st.max_error);
   EXPECT_LE(worst, st.max_error * (1 + 1e-6));
-  EXPECT_FALSE(cgal_self_intersects(simple));
+  EXPECT_FALSE(test::cgal_self_intersects(simple));
 }
 
 // Random unions and differences of spheres and boxes, and the shared meshes: every output a
@@ -196,7 +183,7 @@ TEST(MeshSimplify, RandomShapesAndSharedModelsStaySolid) {
     EXPECT_TRUE(validate_mesh(simple).is_solid()) << name;
     EXPECT_FALSE(st.simplify_rejected) << name;
     EXPECT_LT(simple.triangles.size(), st.triangles_before_simplify) << name;
-    EXPECT_FALSE(cgal_self_intersects(simple)) << name;
+    EXPECT_FALSE(test::cgal_self_intersects(simple)) << name;
     const TriMesh made = new_triangles(simple, uniform);
     EXPECT_LE(max_abs_field(made, tape, 4), st.max_error * (1 + 1e-6)) << name;
     std::fprintf(stderr, "%s at 48: %zu -> %zu triangles (%zu new), max |f| on them %.3g (bound %.3g)\n", name.c_str(),
