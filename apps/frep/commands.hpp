@@ -62,6 +62,7 @@ void register_shell(CLI::App& app);
 void register_clearance(CLI::App& app);
 void register_repair(CLI::App& app);
 void register_dataset(CLI::App& app);
+void register_slice(CLI::App& app);
 
 inline void register_commands(CLI::App& app) {
   register_info(app);
@@ -78,6 +79,7 @@ inline void register_commands(CLI::App& app) {
   register_offset(app);
   register_shell(app);
   register_clearance(app);
+  register_slice(app);
 }
 
 }  // namespace frep::cli

@@ -19,7 +19,7 @@ namespace fs = std::filesystem;
 // Bottom to top: each may include those before it. The top-level headers error.hpp (the error
 // types, used by all) and the umbrellas frep.hpp and ugf.hpp are placed by name below.
 const std::vector<std::string> kOrder = {"error",  "util",   "math",    "expr",   "eval",   "mesh",
-                                         "io",     "model",   "ugf",     "contour", "sample", "render",
+                                         "io",     "model",   "ugf",     "contour", "sample", "render", "slice",
                                          "convert", "export", "script",  "apps",
                                          "python"};
 

@@ -1,0 +1,29 @@
+// Pictures of sliced layers: an SVG with one group per layer (Inkscape layers; one shown, the
+// others hidden) and a PNG of one layer. Walls, skin and infill in their own colours, each line
+// drawn at its real width over the cross-section in grey.
+#pragma once
+
+#include <ostream>
+
+#include "frep/render/image.hpp"
+#include "frep/slice/print_settings.hpp"
+#include "frep/slice/slicer.hpp"
+
+namespace frep::slice {
+
+// Colours by role (RGB).
+struct LayerColours {
+  static constexpr unsigned char outline[3] = {225, 225, 225};
+  static constexpr unsigned char wall_outer[3] = {214, 76, 52};
+  static constexpr unsigned char wall_inner[3] = {238, 160, 60};
+  static constexpr unsigned char skin[3] = {70, 110, 200};
+  static constexpr unsigned char fill[3] = {90, 170, 90};
+};
+
+// The layers in millimetres on the bed; layer `shown` (0-based) is visible.
+void write_layers_svg(std::ostream& out, const SlicedPart& part, const PrintSettings& settings, int shown);
+
+// Layer `index` as a picture `pixels` wide (its height follows the part's aspect), white background.
+Image layer_preview(const SlicedPart& part, const PrintSettings& settings, int index, int pixels);
+
+}  // namespace frep::slice

@@ -1,0 +1,185 @@
+#include "frep/slice/slicer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "frep/contour/bounds.hpp"
+#include "frep/error.hpp"
+#include "frep/expr/graph.hpp"
+#include "frep/slice/cross_section.hpp"
+#include "frep/ugf/gyroid.hpp"
+#include "frep/util/thread_pool.hpp"
+
+namespace frep::slice {
+namespace {
+
+std::string mm(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.1f", v);
+  return b;
+}
+
+// The lowest (`up`) or highest z in [a, b] where the plane holds an inside point, to within
+// `precision`; NaN if no plane from a to b in steps of `step` does.
+double find_extreme(CrossSectioner& sec, double a, double b, double step, double precision, bool up) {
+  const double from = up ? a : b, dir = up ? 1 : -1;
+  double outside = from, inside = NAN;
+  const int steps = static_cast<int>(std::ceil((b - a) / step));
+  for (int k = 1; k <= steps; ++k) {
+    const double z = from + dir * std::min(k * step, b - a);
+    if (sec.has_inside(z)) {
+      inside = z;
+      break;
+    }
+    outside = z;
+  }
+  if (std::isnan(inside)) return NAN;
+  while (std::fabs(inside - outside) > precision) {
+    const double mid = 0.5 * (inside + outside);
+    if (mid == inside || mid == outside) break;
+    (sec.has_inside(mid) ? inside : outside) = mid;
+  }
+  return 0.5 * (inside + outside);
+}
+
+Region translated(Region r, Point2 d) {
+  for (Ring& ring : r)
+    for (Point2& p : ring) p.x += d.x, p.y += d.y;
+  return r;
+}
+
+}  // namespace
+
+double gyroid_period(double density, double line_width) {
+  FREP_ASSERT(density > 0 && line_width > 0, "gyroid density and line width must be positive");
+  return 2.43 * line_width / std::min(density, 1.0);
+}
+
+SlicedPart slice_field(const Tape& tape, const FieldInfo& info, const PrintSettings& s, const SlicerOptions& options) {
+  check_print_settings(s);
+  const double lipschitz = options.lipschitz >= 0 ? options.lipschitz : info.lipschitz;
+  auto progress = [&](const char* phase, double f) {
+    if (options.progress) options.progress({phase, f});
+  };
+  // A box holding the inside: the field's own, else an interval search.
+  Box3 box = info.bounds;
+  if (box.empty()) {
+    BoundsSearchOptions bo;
+    bo.threads = options.threads;
+    bo.lipschitz = lipschitz;
+    FieldInfo known = info;
+    known.lipschitz = lipschitz;
+    box = field_region(tape, known, bo);
+  }
+  const double h = s.layer_height, cell = s.section_cell;
+  const double margin = 2 * cell;
+  CrossSectionOptions co;
+  co.cell = cell;
+  co.tolerance = s.section_tolerance;
+  co.lipschitz = lipschitz;
+  co.threads = options.threads;
+  CrossSectioner sec(tape, {box.lo.x - margin, box.lo.y - margin}, {box.hi.x + margin, box.hi.y + margin}, co);
+
+  // The part's bottom and top, where planes start and stop holding inside points.
+  const double za = box.lo.z - margin, zb = box.hi.z + margin;
+  const double precision = 1e-5 * h;
+  const double bottom = find_extreme(sec, za, zb, h / 2, precision, true);
+  if (std::isnan(bottom))
+    throw InputError("", 0,
+                     "nothing to print: no plane through the bounds crosses the inside (the field is not negative "
+                     "anywhere, or only in parts thinner than half a layer or a cross-section cell)");
+  const double top = find_extreme(sec, bottom, zb, h / 2, precision, false);
+  const double height = std::isnan(top) ? 0 : top - bottom;
+  const int count = static_cast<int>(std::llround(height / h));
+  if (count < 1)
+    throw InputError("", 0, "the part is " + std::to_string(height) + " mm tall, less than half a layer (" +
+                                std::to_string(h) + " mm): nothing to print");
+  if (height > s.max_height)
+    throw InputError("", 0, "the part is " + mm(height) + " mm tall, more than the printer's " + mm(s.max_height) +
+                                " mm (max_height)");
+
+  SlicedPart part;
+  part.height = height;
+  part.z_shift = -bottom;
+  std::vector<Region> outlines(static_cast<std::size_t>(count));
+  // The extent of the sections so far: a part wider than the bed stops the slicing at once.
+  Point2 lo{INFINITY, INFINITY}, hi{-INFINITY, -INFINITY};
+  for (int i = 0; i < count; ++i) {
+    Region& r = outlines[static_cast<std::size_t>(i)];
+    r = sec.section(bottom + (i + 0.5) * h);
+    Point2 a, b;
+    if (bounds(r, a, b)) {
+      lo = {std::min(lo.x, a.x), std::min(lo.y, a.y)};
+      hi = {std::max(hi.x, b.x), std::max(hi.y, b.y)};
+      if (hi.x - lo.x > s.bed_x || hi.y - lo.y > s.bed_y)
+        throw InputError("", 0, "the part is at least " + mm(hi.x - lo.x) + " x " + mm(hi.y - lo.y) +
+                                    " mm, bigger than the " + mm(s.bed_x) + " x " + mm(s.bed_y) + " mm bed (bed_x, bed_y)");
+    }
+    progress("cross-sections", (i + 1.0) / count);
+  }
+
+  // Placement: centred on the bed, or where the model is.
+  if (!(lo.x <= hi.x)) throw InputError("", 0, "every layer's cross-section is empty: nothing to print");
+  part.shift = s.keep_position ? Point2{0, 0} : Point2{s.bed_x / 2 - (lo.x + hi.x) / 2, s.bed_y / 2 - (lo.y + hi.y) / 2};
+  part.lo = {lo.x + part.shift.x, lo.y + part.shift.y};
+  part.hi = {hi.x + part.shift.x, hi.y + part.shift.y};
+  if (part.lo.x < 0 || part.lo.y < 0 || part.hi.x > s.bed_x || part.hi.y > s.bed_y)
+    throw InputError("", 0, "with --keep-position the part spans x " + mm(part.lo.x) + " .. " + mm(part.hi.x) + ", y " +
+                                mm(part.lo.y) + " .. " + mm(part.hi.y) + " mm: off the " + mm(s.bed_x) + " x " +
+                                mm(s.bed_y) + " mm bed");
+  for (Region& r : outlines) r = translated(std::move(r), part.shift);
+
+  // Gyroid infill: the contours of the gyroid's own field, per worker.
+  Graph gyroid_graph;
+  std::unique_ptr<Tape> gyroid_tape;
+  const double density = s.infill / 100;
+  const bool gyroid = s.infill_pattern == InfillPattern::Gyroid && density > 0 && density < 1;
+  double period = 0;
+  if (gyroid) {
+    period = gyroid_period(density, s.line_width);
+    const Expr e = ugf::gyroid(gyroid_graph, static_cast<float>(period));
+    gyroid_tape = std::make_unique<Tape>(Tape::compile(gyroid_graph, e.id()));
+  }
+
+  ThreadPool pool(options.threads);
+  std::vector<std::unique_ptr<CrossSectioner>> gyroid_sections(static_cast<std::size_t>(pool.size()));
+  part.layers.resize(static_cast<std::size_t>(count));
+  std::atomic<int> planned{0};
+  pool.parallel_for(count, [&](int worker, int i) {
+    const std::size_t ui = static_cast<std::size_t>(i);
+    std::vector<const Region*> above, below;
+    for (int j = 1; j <= s.top_layers; ++j) above.push_back(i + j < count ? &outlines[ui + static_cast<std::size_t>(j)] : nullptr);
+    for (int j = 1; j <= s.bottom_layers; ++j) below.push_back(i - j >= 0 ? &outlines[ui - static_cast<std::size_t>(j)] : nullptr);
+    const Region solid = solid_region(outlines[ui], above, below);
+    InfillSource source;
+    if (gyroid)
+      source = [&, worker](double z, const Region& region) {
+        auto& gs = gyroid_sections[static_cast<std::size_t>(worker)];
+        if (!gs) {
+          CrossSectionOptions go;
+          go.cell = period / 48;
+          go.tolerance = std::max(s.section_tolerance, period * 1e-4);
+          go.corner_cosine = 1;  // the gyroid is smooth
+          go.threads = 1;
+          gs = std::make_unique<CrossSectioner>(*gyroid_tape, Point2{part.lo.x - 1, part.lo.y - 1},
+                                                Point2{part.hi.x + 1, part.hi.y + 1}, go);
+        }
+        std::vector<Polyline> loops;
+        for (Ring& r : gs->section(z)) {
+          r.push_back(r.front());
+          loops.push_back(std::move(r));
+        }
+        return clip(loops, region);
+      };
+    const double section_z = (i + 0.5) * h;
+    part.layers[ui] = plan_layer(i, (i + 1) * h, section_z, outlines[ui], solid, s, source, part.lo);
+    ++planned;
+  });
+  progress("tool paths", 1);
+  for (const Region& r : outlines) part.volume += area(r) * h;
+  return part;
+}
+
+}  // namespace frep::slice
