@@ -107,7 +107,7 @@ CrossSectioner::CrossSectioner(const Tape& tape, Point2 lo, Point2 hi, CrossSect
   m.grid.coords[2] = {0.0f, 0.0f};
   m.grid.check("the cross-section");
   SubdivisionOptions so;
-  so.tiles = {256, 64, 16};
+  so.tiles = {256, 64, 16, 4};
   so.threads = options_.threads;
   so.lipschitz = options_.lipschitz;
   m.subdivider = std::make_unique<Subdivider>(so);
@@ -297,7 +297,13 @@ struct SectionVisitor {
       for (std::size_t q = 0; q < open.size(); ++q) {
         Pending& p = cr[static_cast<std::size_t>(open[q])];
         const float f = w.out[q];
-        if (f < 0) {
+        // Close enough to the zero set (by the secant's slope): done.
+        const double len = std::hypot(p.bx - p.ax, p.by - p.ay);
+        const double slope = std::isfinite(p.f0) && std::isfinite(p.f1) ? (p.f1 - p.f0) / std::max((p.s1 - p.s0) * len, 1e-30) : 0;
+        if (slope > 0 && std::fabs(f) <= 1e-3 * o->tolerance * slope) {
+          p.s0 = p.s1 = at[q], p.f0 = p.f1 = 0;
+          p.done = true;
+        } else if (f < 0) {
           p.s0 = at[q], p.f0 = f;
           if (p.stuck == 0) p.f1 *= 0.5;
           p.stuck = 0;
@@ -455,7 +461,19 @@ struct SectionVisitor {
     // Chords: a midpoint farther than the tolerance from the zero set is moved onto it (Newton
     // steps along the gradient) and splits the chord if it lands in the cell and on the zero set.
     std::vector<std::vector<char>> checked(segs.size());
-    for (std::size_t s = 0; s < segs.size(); ++s) checked[s].assign(pts[s].size() - 1, 0);
+    for (std::size_t s = 0; s < segs.size(); ++s) {
+      checked[s].assign(pts[s].size() - 1, 0);
+      if (pts[s].size() != 2) continue;
+      // A chord whose ends' normals turn by an angle t bulges from an arc by about its length
+      // times t / 8: nothing to check when that is well within the tolerance.
+      const Grad& ga = cg[static_cast<std::size_t>(segs[s].a)];
+      const Grad& gb = cg[static_cast<std::size_t>(segs[s].b)];
+      const double la = std::hypot(ga.dx, ga.dy), lb = std::hypot(gb.dx, gb.dy);
+      if (!(la > 0) || !(lb > 0) || !std::isfinite(la) || !std::isfinite(lb)) continue;
+      const double c = std::clamp((ga.dx * gb.dx + ga.dy * gb.dy) / (la * lb), -1.0, 1.0);
+      const double chord = std::hypot(pts[s][1].x - pts[s][0].x, pts[s][1].y - pts[s][0].y);
+      if (chord * std::acos(c) / 8 <= 0.25 * o->tolerance) checked[s][0] = 1;
+    }
     for (int round = 0; round < 3; ++round) {
       std::vector<std::pair<std::size_t, std::size_t>> chords;
       w.xs.clear(), w.ys.clear();
@@ -590,7 +608,7 @@ Region CrossSectioner::section(double z) {
       key = s.to;
       if (key == start) break;
     }
-    ring = simplify(ring, options_.tolerance * 0.25, true);
+    ring = simplify(ring, options_.tolerance * 0.5, true);
     if (ring.size() >= 3) rings.push_back(std::move(ring));
   }
   return normalize(rings);

@@ -146,13 +146,18 @@ SlicedPart slice_field(const Tape& tape, const FieldInfo& info, const PrintSetti
   ThreadPool pool(options.threads);
   std::vector<std::unique_ptr<CrossSectioner>> gyroid_sections(static_cast<std::size_t>(pool.size()));
   part.layers.resize(static_cast<std::size_t>(count));
+  // Skin is decided on outlines simplified to a hundredth of a line: it needs no more.
+  std::vector<Region> rough(outlines.size());
+  pool.parallel_for(count, [&](int, int i) {
+    rough[static_cast<std::size_t>(i)] = coarse(outlines[static_cast<std::size_t>(i)], 0.01 * s.line_width);
+  });
   std::atomic<int> planned{0};
   pool.parallel_for(count, [&](int worker, int i) {
     const std::size_t ui = static_cast<std::size_t>(i);
     std::vector<const Region*> above, below;
-    for (int j = 1; j <= s.top_layers; ++j) above.push_back(i + j < count ? &outlines[ui + static_cast<std::size_t>(j)] : nullptr);
-    for (int j = 1; j <= s.bottom_layers; ++j) below.push_back(i - j >= 0 ? &outlines[ui - static_cast<std::size_t>(j)] : nullptr);
-    const Region solid = solid_region(outlines[ui], above, below);
+    for (int j = 1; j <= s.top_layers; ++j) above.push_back(i + j < count ? &rough[ui + static_cast<std::size_t>(j)] : nullptr);
+    for (int j = 1; j <= s.bottom_layers; ++j) below.push_back(i - j >= 0 ? &rough[ui - static_cast<std::size_t>(j)] : nullptr);
+    const Region solid = solid_region(rough[ui], above, below);
     InfillSource source;
     if (gyroid)
       source = [&, worker](double z, const Region& region) {

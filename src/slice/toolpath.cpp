@@ -15,6 +15,9 @@
 namespace frep::slice {
 namespace {
 
+// Outlines simplified to this many line widths decide where walls fit and bound the infill.
+constexpr double kCoarse = 0.01;
+
 double arc_tolerance(const PrintSettings& s) { return std::min(s.section_tolerance, s.line_width * 0.002); }
 
 // Grows a shrunk region back with its sharp corners kept.
@@ -94,23 +97,45 @@ const char* role_name(PathRole role) {
   }
 }
 
+Region coarse(const Region& region, double tolerance) {
+  Region out;
+  out.reserve(region.size());
+  for (const Ring& r : region) {
+    Ring c = simplify(r, tolerance, true);
+    if (c.size() >= 3) out.push_back(std::move(c));
+  }
+  return normalize(out);
+}
+
 std::vector<ToolPath> walls(const Region& island, const PrintSettings& s, Region* inner) {
   const double w = s.line_width;
   const double tol = arc_tolerance(s);
+  // Where lanes fit and what is left inside are decided on the island simplified to a hundredth
+  // of a line (offsets of dense outlines are what costs); the walls printed are exact offsets of
+  // the island itself.
+  const Region rough = coarse(island, kCoarse * w);
   std::vector<ToolPath> out;
-  Region base = island;  // the island eroded by (k - 1) widths
+  Region base = rough;  // the island eroded by (k - 1) widths
   for (int k = 1; k <= s.perimeters && !base.empty(); ++k) {
-    const Region core = offset(island, -k * w, tol);
+    const Region core = offset(rough, -k * w, tol);
     const PathRole role = k == 1 ? PathRole::WallOuter : PathRole::WallInner;
     // The wall: the core grown back by half a width, as the exact (k - 1/2) w offset of the
-    // island restricted to where the core exists.
-    const Region wall = intersect(offset(island, -(k - 0.5) * w, tol), dilate_sharp(core, 0.5 * w + 1e-4 * w, s));
+    // island restricted to where the core exists. Where every lane fits, the two are the same
+    // region (up to the margin): then the exact offset is the wall as it is.
+    const double margin = 1e-4 * w;
+    const Region exact_rough = offset(rough, -(k - 0.5) * w, tol);
+    const Region grown = dilate_sharp(core, 0.5 * w + margin, s);
+    double outline = 0;
+    for (const Ring& r : exact_rough) outline += length(r, true);
+    const double slack = 0.01 * w * w + outline * margin;
+    const Region exact = offset(island, -(k - 0.5) * w, tol);
+    const Region wall = area(exact_rough) - area(grown) <= slack ? exact : intersect(exact, grown);
     for (const Ring& r : wall)
       if (r.size() >= 3) out.push_back({role, true, r});
-    // What the wall's lane leaves of this band: strips too thin for a lane on each side.
-    const Region lanes = dilate_sharp(core, w + 1e-4 * w, s);
-    const Region gap = subtract(base, lanes);
-    gap_fill(gap, s, PathRole::WallInner, out);
+    // What the wall's lane leaves of this band: strips too thin for a lane on each side. A strip
+    // that can take a line is at least a line wide and two long: less area than that is none.
+    const Region lanes = dilate_sharp(core, w + margin, s);
+    if (area(base) - area(lanes) > 1.98 * w * w - outline * margin) gap_fill(subtract(base, lanes), s, PathRole::WallInner, out);
     base = core;
   }
   if (inner) *inner = base;

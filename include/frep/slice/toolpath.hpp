@@ -34,6 +34,9 @@ struct LayerPlan {
 // a field of its own.
 using InfillSource = std::function<std::vector<Polyline>(double z, const Region& region)>;
 
+// The region with each ring simplified to within `tolerance` (Douglas-Peucker), normalised.
+Region coarse(const Region& region, double tolerance);
+
 // The walls of one island (an outer ring with its holes): the k-th wall's centre lies (k - 1/2)
 // line widths inside the island, measured in the plane, for k = 1..perimeters while it exists
 // (a thin wall gets the walls that fit). `inner` receives the region left inside the walls.
