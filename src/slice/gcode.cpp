@@ -1,5 +1,6 @@
 #include "frep/slice/gcode.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 
@@ -34,7 +35,23 @@ class Writer {
     const double d = std::hypot(p.x - at_.x, p.y - at_.y);
     if (d < 1e-6) return;
     const double e = d * e_per_mm_;
-    linef("G1 X%.4f Y%.4f E%.5f F%.0f", p.x, p.y, e, speed * 60);
+    // The bulk of the file: formatted with to_chars (printf would be a tenth of the slicing).
+    char b[96];
+    char* q = b;
+    auto put = [&](const char* text) {
+      while (*text) *q++ = *text++;
+    };
+    auto num = [&](double v, int decimals) { q = std::to_chars(q, b + sizeof b, v, std::chars_format::fixed, decimals).ptr; };
+    put("G1 X");
+    num(p.x, 4);
+    put(" Y");
+    num(p.y, 4);
+    put(" E");
+    num(e, 5);
+    put(" F");
+    num(speed * 60, 0);
+    *q++ = '\n';
+    out_.write(b, q - b);
     stats.moves += 1;
     stats.filament += e;
     stats.seconds += d / speed;

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <atomic>
 #include <memory>
+#include <mutex>
 #include <string>
 
 #include "frep/contour/bounds.hpp"
@@ -104,21 +106,40 @@ SlicedPart slice_field(const Tape& tape, const FieldInfo& info, const PrintSetti
   part.height = height;
   part.z_shift = -bottom;
   std::vector<Region> outlines(static_cast<std::size_t>(count));
-  // The extent of the sections so far: a part wider than the bed stops the slicing at once.
+  // Layers in parallel, each worker with a cross-sectioner of its own (a layer alone splits
+  // into too little work to share, and chaining its rings is serial). The extent of the
+  // sections so far: a part wider than the bed stops the slicing at once.
+  ThreadPool pool(options.threads);
+  std::vector<std::unique_ptr<CrossSectioner>> sections(static_cast<std::size_t>(pool.size()));
   Point2 lo{INFINITY, INFINITY}, hi{-INFINITY, -INFINITY};
-  for (int i = 0; i < count; ++i) {
+  std::mutex extent;
+  std::atomic<bool> too_big{false};
+  std::atomic<int> done{0};
+  pool.parallel_for(count, [&](int worker, int i) {
+    if (too_big.load()) return;
+    auto& own = sections[static_cast<std::size_t>(worker)];
+    if (!own) {
+      CrossSectionOptions one = co;
+      one.threads = 1;
+      own = std::make_unique<CrossSectioner>(tape, Point2{box.lo.x - margin, box.lo.y - margin},
+                                             Point2{box.hi.x + margin, box.hi.y + margin}, one);
+    }
     Region& r = outlines[static_cast<std::size_t>(i)];
-    r = sec.section(bottom + (i + 0.5) * h);
+    r = own->section(bottom + (i + 0.5) * h);
     Point2 a, b;
     if (bounds(r, a, b)) {
+      std::lock_guard<std::mutex> lock(extent);
       lo = {std::min(lo.x, a.x), std::min(lo.y, a.y)};
       hi = {std::max(hi.x, b.x), std::max(hi.y, b.y)};
-      if (hi.x - lo.x > s.bed_x || hi.y - lo.y > s.bed_y)
-        throw InputError("", 0, "the part is at least " + mm(hi.x - lo.x) + " x " + mm(hi.y - lo.y) +
-                                    " mm, bigger than the " + mm(s.bed_x) + " x " + mm(s.bed_y) + " mm bed (bed_x, bed_y)");
+      if (hi.x - lo.x > s.bed_x || hi.y - lo.y > s.bed_y) too_big = true;
     }
-    progress("cross-sections", (i + 1.0) / count);
-  }
+    const int n = ++done;
+    if (worker == 0) progress("cross-sections", static_cast<double>(n) / count);
+  });
+  sections.clear();
+  if (too_big)
+    throw InputError("", 0, "the part is at least " + mm(hi.x - lo.x) + " x " + mm(hi.y - lo.y) + " mm, bigger than the " +
+                                mm(s.bed_x) + " x " + mm(s.bed_y) + " mm bed (bed_x, bed_y)");
 
   // Placement: centred on the bed, or where the model is.
   if (!(lo.x <= hi.x)) throw InputError("", 0, "every layer's cross-section is empty: nothing to print");
@@ -143,7 +164,6 @@ SlicedPart slice_field(const Tape& tape, const FieldInfo& info, const PrintSetti
     gyroid_tape = std::make_unique<Tape>(Tape::compile(gyroid_graph, e.id()));
   }
 
-  ThreadPool pool(options.threads);
   std::vector<std::unique_ptr<CrossSectioner>> gyroid_sections(static_cast<std::size_t>(pool.size()));
   part.layers.resize(static_cast<std::size_t>(count));
   // Skin is decided on outlines simplified to a hundredth of a line: it needs no more.
