@@ -54,6 +54,7 @@ const std::vector<Entry>& entries() {
       {"keep_position", &P::keep_position, 0, 0},
       {"section_cell", &P::section_cell, 1e-4, 10},
       {"section_tolerance", &P::section_tolerance, 1e-7, 1},
+      {"path_tolerance", &P::path_tolerance, 0, 1},
   };
   return e;
 }

@@ -114,6 +114,13 @@ std::vector<ToolPath> walls(const Region& island, const PrintSettings& s, Region
   // of a line (offsets of dense outlines are what costs); the walls printed are exact offsets of
   // the island itself.
   const Region rough = coarse(island, kCoarse * w);
+  // The island to within the paths' tolerance: its offsets are within that of the exact ones
+  // (an offset moves no point farther than its input moved), with far fewer vertices to offset.
+  Region fine;
+  for (const Ring& r : island) {
+    Ring c = s.path_tolerance > 0 ? simplify(r, s.path_tolerance, true) : r;
+    if (c.size() >= 3) fine.push_back(std::move(c));
+  }
   std::vector<ToolPath> out;
   Region base = rough;  // the island eroded by (k - 1) widths
   for (int k = 1; k <= s.perimeters && !base.empty(); ++k) {
@@ -128,7 +135,7 @@ std::vector<ToolPath> walls(const Region& island, const PrintSettings& s, Region
     double outline = 0;
     for (const Ring& r : exact_rough) outline += length(r, true);
     const double slack = 0.01 * w * w + outline * margin;
-    const Region exact = offset(island, -(k - 0.5) * w, tol);
+    const Region exact = offset(fine, -(k - 0.5) * w, tol);
     const Region wall = area(exact_rough) - area(grown) <= slack ? exact : intersect(exact, grown);
     for (const Ring& r : wall)
       if (r.size() >= 3) out.push_back({role, true, r});
@@ -246,6 +253,8 @@ LayerPlan plan_layer(int index, double z, double section_z, Region outline, cons
     }
     for (ToolPath& p : order_open(std::move(fill), at)) plan.paths.push_back(std::move(p));
   }
+  if (s.path_tolerance > 0)
+    for (ToolPath& p : plan.paths) p.points = simplify(p.points, s.path_tolerance, p.closed);
   plan.outline = std::move(outline);
   return plan;
 }

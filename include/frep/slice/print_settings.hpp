@@ -36,6 +36,7 @@ struct PrintSettings {
   bool keep_position = false;         // keep the model's x and y instead of centring it on the bed
   double section_cell = 0.05;         // grid cell of the cross-sections (marching squares), model units
   double section_tolerance = 0.0005;  // cross-section vertices and chords within this of the exact contour
+  double path_tolerance = 0.001;      // tool paths simplified to within this of the exact offsets (fewer, longer moves)
 };
 
 // Sets one setting by name (the names above, with '_' or '-'), from its text. Throws
