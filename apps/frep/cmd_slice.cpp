@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -40,6 +41,7 @@ void register_slice(CLI::App& app) {
   struct Args {
     std::string input, output, config, pattern = "lines", preview;
     std::vector<std::string> set;
+    std::vector<double> bounds;
     slice::PrintSettings s;
     int preview_layer = -1, preview_size = 1200, threads = 0;
     double lipschitz = -1;
@@ -66,6 +68,11 @@ void register_slice(CLI::App& app) {
   cmd->add_option("--set", a->set, "One setting, KEY=VALUE (repeatable; as in --config, after it)");
   auto* keep = cmd->add_flag("--keep-position", a->keep,
                              "Keep the model's x and y (it must lie on the bed) instead of centring it; z always starts at 0");
+  cmd->add_option("--bounds", a->bounds,
+                  "Region to slice, x0,y0,z0,x1,y1,z1 (default: the box the input carries, a mesh's own, else found "
+                  "by interval search; a shape reaching the bounds is cut there: lattices, half-spaces)")
+      ->delimiter(',')
+      ->expected(6);
   cmd->add_option("--preview", a->preview, "Also write a PNG picture of one layer (--preview-layer)");
   cmd->add_option("--preview-layer", a->preview_layer,
                   "The layer shown in --preview and in an SVG output (0 = first; default: the middle one)")
@@ -121,7 +128,17 @@ void register_slice(CLI::App& app) {
     }
 
     const auto t0 = std::chrono::steady_clock::now();
-    const Model m = load_input(a->input, a->quiet, nullptr, a->repair);
+    Model m = load_input(a->input, a->quiet, nullptr, a->repair);
+    if (!a->bounds.empty()) {
+      for (double v : a->bounds)
+        if (!std::isfinite(v)) throw CLI::ValidationError("--bounds", "the bounds must be finite numbers");
+      for (int i = 0; i < 3; ++i)
+        if (!(a->bounds[static_cast<std::size_t>(i)] < a->bounds[static_cast<std::size_t>(i) + 3]))
+          throw CLI::ValidationError("--bounds", fmt::format("the bounds are empty along {}: need {}0 < {}1", "xyz"[i],
+                                                             "xyz"[i], "xyz"[i]));
+      // The region replaces what the input says: the field is sliced inside it only.
+      m.info.bounds = Box3{{a->bounds[0], a->bounds[1], a->bounds[2]}, {a->bounds[3], a->bounds[4], a->bounds[5]}};
+    }
     const Tape tape = Tape::compile(*m.graph, m.root);
     slice::SlicerOptions o;
     o.threads = a->threads;

@@ -70,6 +70,8 @@ struct CrossSectioner::Impl {
   std::unique_ptr<Subdivider> subdivider;
   std::vector<std::unique_ptr<Worker>> workers;
   std::atomic<bool> any_inside{false};
+  std::atomic<bool> cut{false};  // section(): the shape reached the grid's border
+  Point2 region_lo, region_hi;   // the region asked for
 
   double sx(int i) const { return static_cast<double>(grid.coords[0][static_cast<std::size_t>(i)]); }
   double sy(int j) const { return static_cast<double>(grid.coords[1][static_cast<std::size_t>(j)]); }
@@ -99,6 +101,8 @@ CrossSectioner::CrossSectioner(const Tape& tape, Point2 lo, Point2 hi, CrossSect
   m.nx = static_cast<int>(wx) + 2;
   m.ny = static_cast<int>(wy) + 2;
   m.cell = c;
+  m.region_lo = lo;
+  m.region_hi = hi;
   m.x0 = (lo.x + hi.x) / 2 - c * m.nx / 2.0;
   m.y0 = (lo.y + hi.y) / 2 - c * m.ny / 2.0;
   m.grid.cells = true;
@@ -254,7 +258,10 @@ struct SectionVisitor {
       p.key = key;
       // An outside end on the border that is really inside: the contour runs along the border.
       p.done = p.placed = g.border(i0 + ib, j0 + jb) && !(p.f1 >= 0);
-      if (p.placed) p.p = {p.bx, p.by};
+      if (p.placed) {
+        p.p = {p.bx, p.by};
+        g.cut.store(true, std::memory_order_relaxed);
+      }
       w.local[static_cast<std::size_t>(local)] = static_cast<int>(cr.size());
       cr.push_back(p);
     };
@@ -562,6 +569,7 @@ struct SectionVisitor {
 Region CrossSectioner::section(double z) {
   Impl& m = *impl_;
   for (auto& w : m.workers) w->crossings.clear(), w->segments.clear(), w->extra.clear();
+  m.cut = false;
   m.grid.coords[2] = {static_cast<float>(z), static_cast<float>(z)};
   SectionVisitor v{&m, &options_, static_cast<float>(z)};
   m.subdivider->run(tape_, m.grid, v);
@@ -611,7 +619,10 @@ Region CrossSectioner::section(double z) {
     ring = simplify(ring, options_.tolerance * 0.5, true);
     if (ring.size() >= 3) rings.push_back(std::move(ring));
   }
-  return normalize(rings);
+  if (!m.cut.load()) return normalize(rings);
+  // Cut by the grid's border, a cell outside the region: cut at the region itself.
+  const Point2 lo = m.region_lo, hi = m.region_hi;
+  return intersect(rings, {{lo, {hi.x, lo.y}, hi, {lo.x, hi.y}}});
 }
 
 Region cross_section(const Tape& tape, double z, Point2 lo, Point2 hi, const CrossSectionOptions& options) {

@@ -110,7 +110,7 @@ void set_print_setting(PrintSettings& s, const std::string& key_in, const std::s
     }
     return;
   }
-  throw std::invalid_argument("unknown setting '" + key_in + "' (frep slice --list-settings lists them)");
+  throw std::invalid_argument("unknown setting '" + trim(key_in) + "' (frep slice --list-settings lists them)");
 }
 
 void read_print_settings(const std::string& path, PrintSettings& settings) {

@@ -27,6 +27,7 @@ std::string mm(double v) {
 // `precision`; NaN if no plane from a to b in steps of `step` does.
 double find_extreme(CrossSectioner& sec, double a, double b, double step, double precision, bool up) {
   const double from = up ? a : b, dir = up ? 1 : -1;
+  if (sec.has_inside(from)) return from;  // the shape reaches the region's end: cut there
   double outside = from, inside = NAN;
   const int steps = static_cast<int>(std::ceil((b - a) / step));
   for (int k = 1; k <= steps; ++k) {
@@ -76,16 +77,17 @@ SlicedPart slice_field(const Tape& tape, const FieldInfo& info, const PrintSetti
     box = field_region(tape, known, bo);
   }
   const double h = s.layer_height, cell = s.section_cell;
-  const double margin = 2 * cell;
   CrossSectionOptions co;
   co.cell = cell;
   co.tolerance = s.section_tolerance;
   co.lipschitz = lipschitz;
   co.threads = options.threads;
-  CrossSectioner sec(tape, {box.lo.x - margin, box.lo.y - margin}, {box.hi.x + margin, box.hi.y + margin}, co);
+  // The sectioner adds a cell of margin around the region (outside by definition): a shape
+  // reaching the region's sides is cut there.
+  CrossSectioner sec(tape, {box.lo.x, box.lo.y}, {box.hi.x, box.hi.y}, co);
 
   // The part's bottom and top, where planes start and stop holding inside points.
-  const double za = box.lo.z - margin, zb = box.hi.z + margin;
+  const double za = box.lo.z, zb = box.hi.z;
   const double precision = 1e-5 * h;
   const double bottom = find_extreme(sec, za, zb, h / 2, precision, true);
   if (std::isnan(bottom))
@@ -121,8 +123,7 @@ SlicedPart slice_field(const Tape& tape, const FieldInfo& info, const PrintSetti
     if (!own) {
       CrossSectionOptions one = co;
       one.threads = 1;
-      own = std::make_unique<CrossSectioner>(tape, Point2{box.lo.x - margin, box.lo.y - margin},
-                                             Point2{box.hi.x + margin, box.hi.y + margin}, one);
+      own = std::make_unique<CrossSectioner>(tape, Point2{box.lo.x, box.lo.y}, Point2{box.hi.x, box.hi.y}, one);
     }
     Region& r = outlines[static_cast<std::size_t>(i)];
     r = own->section(bottom + (i + 0.5) * h);

@@ -30,7 +30,8 @@ struct CrossSectionOptions {
 class CrossSectioner {
  public:
   // `tape` is kept by reference and must outlive this object. [lo, hi] is the region of the plane
-  // to search; it should hold the whole inside: a shape reaching its border is cut there.
+  // to search; it should hold the whole inside: a shape reaching its border is cut there (the
+  // section is then intersected with the region).
   // Throws InputError if the region is empty, not finite, or needs more than 2^20 cells along an axis.
   CrossSectioner(const Tape& tape, Point2 lo, Point2 hi, CrossSectionOptions options = {});
   ~CrossSectioner();
