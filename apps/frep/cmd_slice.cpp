@@ -2,6 +2,7 @@
 #include <fmt/core.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +12,8 @@
 #include "commands.hpp"
 #include "input.hpp"
 #include "frep/error.hpp"
+#include "frep/model/field.hpp"
+#include "frep/model/transform.hpp"
 #include "frep/render/image.hpp"
 #include "frep/slice/gcode.hpp"
 #include "frep/slice/layer_pictures.hpp"
@@ -44,7 +47,8 @@ void register_slice(CLI::App& app) {
     std::vector<double> bounds;
     slice::PrintSettings s;
     int preview_layer = -1, preview_size = 1200, threads = 0;
-    double lipschitz = -1;
+    double lipschitz = -1, scale = 1;
+    std::string svg_layers;
     bool quiet = false, repair = false, keep = false, list = false;
   };
   auto a = std::make_shared<Args>();
@@ -73,6 +77,11 @@ void register_slice(CLI::App& app) {
                   "by interval search; a shape reaching the bounds is cut there: lattices, half-spaces)")
       ->delimiter(',')
       ->expected(6);
+  cmd->add_option("--scale", a->scale,
+                  "Scale the model uniformly before slicing (model units to millimetres: 25.4 for inches, 1000 for metres)")
+      ->check(finite_number(true))
+      ->capture_default_str();
+  cmd->add_option("--svg-layers", a->svg_layers, "An SVG output holds these layers only: N or FIRST-LAST (default: all)");
   cmd->add_option("--preview", a->preview, "Also write a PNG picture of one layer (--preview-layer)");
   cmd->add_option("--preview-layer", a->preview_layer,
                   "The layer shown in --preview and in an SVG output (0 = first; default: the middle one)")
@@ -139,7 +148,14 @@ void register_slice(CLI::App& app) {
       // The region replaces what the input says: the field is sliced inside it only.
       m.info.bounds = Box3{{a->bounds[0], a->bounds[1], a->bounds[2]}, {a->bounds[3], a->bounds[4], a->bounds[5]}};
     }
-    const Tape tape = Tape::compile(*m.graph, m.root);
+    FieldInfo info = m.info;
+    Expr root = m.root_expr();
+    if (a->scale != 1) {
+      const Field scaled = frep::scale(field_of(m), {a->scale, a->scale, a->scale});
+      root = scaled.expr;
+      info = scaled.info;
+    }
+    const Tape tape = Tape::compile(*m.graph, root.id());
     slice::SlicerOptions o;
     o.threads = a->threads;
     o.lipschitz = lipschitz_of(m, a->lipschitz);
@@ -154,7 +170,7 @@ void register_slice(CLI::App& app) {
       };
     slice::SlicedPart part;
     try {
-      part = slice::slice_field(tape, m.info, s, o);
+      part = slice::slice_field(tape, info, s, o);
     } catch (const InputError& e) {
       if (!e.file().empty()) throw;
       throw InputError(a->input, 0, e.detail());
@@ -167,8 +183,23 @@ void register_slice(CLI::App& app) {
     slice::GcodeStats st;
     if (kind == SliceOutput::Gcode)
       write_file_atomically(a->output, [&](std::ostream& out) { st = slice::write_gcode(out, part, s, a->input); });
-    else
-      write_file_atomically(a->output, [&](std::ostream& out) { slice::write_layers_svg(out, part, s, shown_layer); });
+    else {
+      int first = 0, last = layers - 1;
+      if (!a->svg_layers.empty()) {
+        const auto dash = a->svg_layers.find('-');
+        try {
+          std::size_t used = 0;
+          first = std::stoi(a->svg_layers.substr(0, dash), &used);
+          last = dash == std::string::npos ? first : std::stoi(a->svg_layers.substr(dash + 1));
+        } catch (const std::exception&) {
+          throw CLI::ValidationError("--svg-layers", "expected N or FIRST-LAST, got '" + a->svg_layers + "'");
+        }
+        if (first < 0 || last < first || last >= layers)
+          throw CLI::ValidationError("--svg-layers", fmt::format("the part has layers 0 to {}, got '{}'", layers - 1, a->svg_layers));
+      }
+      const int shown_in_svg = std::clamp(shown_layer, first, last);
+      write_file_atomically(a->output, [&](std::ostream& out) { slice::write_layers_svg(out, part, s, shown_in_svg, first, last); });
+    }
     if (!a->preview.empty()) save_image(a->preview, slice::layer_preview(part, s, shown_layer, a->preview_size));
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!a->quiet) {

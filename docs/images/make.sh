@@ -45,3 +45,8 @@ for f in offset shell shell_biased shell_variable intersect blend_quadratic blen
   frep render "$tmp/ugf_$f.vm" --slice z=0 --size 150 -o "$out/ugf/$f.png"
 done
 du -ch $out/*.png $out/ugf/*.png | tail -1
+
+# Slicing (docs/slicing.md): one layer of the demo bracket scaled to 72 mm, as SVG, and a layer of
+# the gyroid-filled cube of examples/ as PNG.
+frep slice examples/bracket.obj --scale 40 -o $out/slice_bracket.svg --svg-layers 10 --preview-layer 10
+frep slice examples/gyroid_cube.rhai --infill 0 -o /dev/null --preview $out/slice_gyroid_cube.png --preview-layer 60 --preview-size 480

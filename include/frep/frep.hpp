@@ -83,4 +83,12 @@
 #include "frep/export/glsl.hpp"
 #include "frep/export/latex.hpp"
 
+#include "frep/slice/polygon.hpp"
+#include "frep/slice/cross_section.hpp"
+#include "frep/slice/print_settings.hpp"
+#include "frep/slice/toolpath.hpp"
+#include "frep/slice/slicer.hpp"
+#include "frep/slice/gcode.hpp"
+#include "frep/slice/layer_pictures.hpp"
+
 #include "frep/ugf.hpp"

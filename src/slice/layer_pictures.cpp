@@ -28,7 +28,8 @@ std::string hex(const unsigned char* c) {
 
 }  // namespace
 
-void write_layers_svg(std::ostream& out, const SlicedPart& part, const PrintSettings& s, int shown) {
+void write_layers_svg(std::ostream& out, const SlicedPart& part, const PrintSettings& s, int shown, int first, int last) {
+  if (last < 0) last = static_cast<int>(part.layers.size()) - 1;
   const double pad = 2;
   const double x0 = part.lo.x - pad, y0 = part.lo.y - pad;
   const double wd = part.hi.x - part.lo.x + 2 * pad, ht = part.hi.y - part.lo.y + 2 * pad;
@@ -43,6 +44,7 @@ void write_layers_svg(std::ostream& out, const SlicedPart& part, const PrintSett
       << hex(LayerColours::wall_inner) << ", skin " << hex(LayerColours::skin) << ", infill " << hex(LayerColours::fill)
       << ", cross-section grey -->\n";
   for (const LayerPlan& l : part.layers) {
+    if (l.index < first || l.index > last) continue;
     std::snprintf(b, sizeof b,
                   "<g id=\"layer-%d\" inkscape:groupmode=\"layer\" inkscape:label=\"layer %d z=%.4f\" "
                   "transform=\"scale(1,-1)\"%s>\n",

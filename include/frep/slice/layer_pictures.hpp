@@ -20,8 +20,10 @@ struct LayerColours {
   static constexpr unsigned char fill[3] = {90, 170, 90};
 };
 
-// The layers in millimetres on the bed; layer `shown` (0-based) is visible.
-void write_layers_svg(std::ostream& out, const SlicedPart& part, const PrintSettings& settings, int shown);
+// Layers `first` to `last` (0-based; -1: the last one) in millimetres on the bed; layer `shown` is
+// visible, the others hidden.
+void write_layers_svg(std::ostream& out, const SlicedPart& part, const PrintSettings& settings, int shown,
+                      int first = 0, int last = -1);
 
 // Layer `index` as a picture `pixels` wide (its height follows the part's aspect), white background.
 Image layer_preview(const SlicedPart& part, const PrintSettings& settings, int index, int pixels);
