@@ -95,15 +95,7 @@ void register_mesh(CLI::App& app) {
     if (res->count() == 0 && cell->count() == 0)
       throw CLI::ValidationError("--resolution/--cell", "give the cell size: --resolution N or --cell SIZE");
     MeshOptions o;
-    if (!a->bounds.empty()) {
-      for (double v : a->bounds)
-        if (!std::isfinite(v)) throw CLI::ValidationError("--bounds", "the bounds must be finite numbers");
-      for (int i = 0; i < 3; ++i)
-        if (!(a->bounds[static_cast<std::size_t>(i)] < a->bounds[static_cast<std::size_t>(i) + 3]))
-          throw CLI::ValidationError("--bounds", fmt::format("the bounds are empty along {}: need {}0 < {}1",
-                                                             "xyz"[i], "xyz"[i], "xyz"[i]));
-      o.bounds = Box3{{a->bounds[0], a->bounds[1], a->bounds[2]}, {a->bounds[3], a->bounds[4], a->bounds[5]}};
-    }
+    if (!a->bounds.empty()) o.bounds = bounds_option(a->bounds);
     if (res->count()) o.resolution = a->resolution;
     if (cell->count()) o.cell_size = a->cell;
     o.method = a->method == "snap" ? MeshMethod::Snap : MeshMethod::DualContouring;

@@ -135,13 +135,7 @@ void register_render(CLI::App& app) {
     if (bounds->count()) {
       if (!three_d->count() && !slice->count())
         throw CLI::ValidationError("--bounds", "--bounds applies to --3d and --slice pictures only");
-      for (double v : a->bounds)
-        if (!std::isfinite(v)) throw CLI::ValidationError("--bounds", "the bounds must be finite numbers");
-      for (int i = 0; i < 3; ++i)
-        if (!(a->bounds[static_cast<std::size_t>(i)] < a->bounds[static_cast<std::size_t>(i) + 3]))
-          throw CLI::ValidationError("--bounds", fmt::format("the bounds are empty along {}: need {}0 < {}1", "xyz"[i],
-                                                             "xyz"[i], "xyz"[i]));
-      box = Box3{{a->bounds[0], a->bounds[1], a->bounds[2]}, {a->bounds[3], a->bounds[4], a->bounds[5]}};
+      box = bounds_option(a->bounds);
     }
     const bool grayscale = !three_d->count() && !slice->count() ? true : (three_d->count() && a->mode == "depth");
     for (std::size_t i = 1; i < a->tiles.size(); ++i)

@@ -138,16 +138,8 @@ void register_slice(CLI::App& app) {
 
     const auto t0 = std::chrono::steady_clock::now();
     Model m = load_input(a->input, a->quiet, nullptr, a->repair);
-    if (!a->bounds.empty()) {
-      for (double v : a->bounds)
-        if (!std::isfinite(v)) throw CLI::ValidationError("--bounds", "the bounds must be finite numbers");
-      for (int i = 0; i < 3; ++i)
-        if (!(a->bounds[static_cast<std::size_t>(i)] < a->bounds[static_cast<std::size_t>(i) + 3]))
-          throw CLI::ValidationError("--bounds", fmt::format("the bounds are empty along {}: need {}0 < {}1", "xyz"[i],
-                                                             "xyz"[i], "xyz"[i]));
-      // The region replaces what the input says: the field is sliced inside it only.
-      m.info.bounds = Box3{{a->bounds[0], a->bounds[1], a->bounds[2]}, {a->bounds[3], a->bounds[4], a->bounds[5]}};
-    }
+    // The region replaces what the input says: the field is sliced inside it only.
+    if (!a->bounds.empty()) m.info.bounds = bounds_option(a->bounds);
     FieldInfo info = m.info;
     Expr root = m.root_expr();
     if (a->scale != 1) {

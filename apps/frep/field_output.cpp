@@ -54,12 +54,7 @@ void add_field_output_options(CLI::App* cmd, const std::shared_ptr<FieldOutputOp
 }
 
 void check_field_output_options(const FieldOutputOptions& o) {
-  if (o.bounds.empty()) return;
-  for (double v : o.bounds)
-    if (!std::isfinite(v)) throw CLI::ValidationError("--bounds", "the bounds must be finite numbers");
-  for (int i = 0; i < 3; ++i)
-    if (!(o.bounds[static_cast<std::size_t>(i)] < o.bounds[static_cast<std::size_t>(i) + 3]))
-      throw CLI::ValidationError("--bounds", fmt::format("the bounds are empty along {}: need {}0 < {}1", "xyz"[i], "xyz"[i], "xyz"[i]));
+  if (!o.bounds.empty()) bounds_option(o.bounds);
 }
 
 void check_field_output(const std::string& path, const std::string& input) {

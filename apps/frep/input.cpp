@@ -152,6 +152,16 @@ void set_max_error(const std::string& value, MeshOptions& o) {
   o.max_error_in_cells = cells;
 }
 
+Box3 bounds_option(const std::vector<double>& b) {
+  if (b.size() != 6) throw CLI::ValidationError("--bounds", "expected six numbers: x0,y0,z0,x1,y1,z1");
+  for (double v : b)
+    if (!std::isfinite(v)) throw CLI::ValidationError("--bounds", "the bounds must be finite numbers");
+  for (int i = 0; i < 3; ++i)
+    if (!(b[static_cast<std::size_t>(i)] < b[static_cast<std::size_t>(i) + 3]))
+      throw CLI::ValidationError("--bounds", fmt::format("the bounds are empty along {}: need {}0 < {}1", "xyz"[i], "xyz"[i], "xyz"[i]));
+  return Box3{{b[0], b[1], b[2]}, {b[3], b[4], b[5]}};
+}
+
 void add_lipschitz_option(CLI::App* cmd, double& value) {
   value = -1;
   cmd->add_option("--lipschitz", value,

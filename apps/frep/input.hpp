@@ -34,6 +34,10 @@ void write_mesh_output(const std::string& path, const TriMesh& mesh, const std::
 // `summary`, when given, receives what the repair did (repair_summary) if it ran.
 TriMesh repaired_if_asked(TriMesh mesh, bool repair, bool quiet, std::string* summary = nullptr);
 
+// The box of a --bounds x0,y0,z0,x1,y1,z1 option (six values, as CLI11 checked); throws
+// CLI::ValidationError unless they are finite and x0 < x1, y0 < y1, z0 < z1.
+Box3 bounds_option(const std::vector<double>& values);
+
 // --lipschitz L: lets a command that subdivides space (render, mesh, offset, shell) assume
 // |f(p) - f(q)| <= L |p - q| (see FieldInfo::lipschitz). `value` stays negative unless given.
 void add_lipschitz_option(CLI::App* cmd, double& value);
