@@ -80,6 +80,27 @@ class Simplifier {
       }
       hash_insert(t);
     }
+    // Shells (connected components) and their signed volumes, relative to each shell's first
+    // vertex: a collapse never turns a shell inside out, which a tiny cavity (a tetrahedron of
+    // volume 1e-12) would otherwise undergo while each of its triangles turns less than the
+    // flip check allows.
+    shell_.assign(P_.size(), 0);
+    for (std::uint32_t i = 0; i < P_.size(); ++i) shell_[i] = i;
+    const auto find = [&](std::uint32_t a) {
+      while (shell_[a] != a) a = shell_[a] = shell_[shell_[a]];
+      return a;
+    };
+    for (const Triangle& tr : T_)
+      for (int k = 1; k < 3; ++k) {
+        const std::uint32_t a = find(tr[0]), b = find(tr[k]);
+        if (a != b) shell_[std::max(a, b)] = std::min(a, b);
+      }
+    for (std::uint32_t i = 0; i < P_.size(); ++i) shell_[i] = find(i);
+    volume_.assign(P_.size(), 0);
+    for (const Triangle& tr : T_) {
+      const Vec3 o = P_[shell_[tr[0]]];
+      volume_[shell_[tr[0]]] += dot(P_[tr[0]] - o, cross(P_[tr[1]] - o, P_[tr[2]] - o)) / 6;
+    }
     for (std::uint32_t t = 0; t < T_.size(); ++t)
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t a = T_[t][k], b = T_[t][(k + 1) % 3];
@@ -111,6 +132,8 @@ class Simplifier {
   std::vector<std::vector<std::uint32_t>> vtris_;
   std::vector<Quadric> Q_;
   std::vector<std::uint32_t> version_, mark_;
+  std::vector<std::uint32_t> shell_;  // per vertex: its shell (the smallest vertex index in it)
+  std::vector<double> volume_;        // per shell (at its index): signed volume
   std::uint32_t stamp_ = 0;
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> heap_;
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> hash_;
@@ -227,6 +250,18 @@ class Simplifier {
       moved_.push_back({t, nt});
     }
 
+    // (2b) The shell keeps the sign of its volume. The old and new stars share their boundary,
+    // so the change is the same from any origin: v's position keeps it accurate.
+    double change = 0;
+    const Vec3 o = P_[v];
+    for (std::uint32_t t : vtris_[u]) {
+      const Triangle& tr = T_[t];
+      change -= dot(P_[tr[0]] - o, cross(P_[tr[1]] - o, P_[tr[2]] - o)) / 6;
+    }
+    for (const auto& [t, nt] : moved_) change += dot(P_[nt[0]] - o, cross(P_[nt[1]] - o, P_[nt[2]] - o)) / 6;
+    const double before = volume_[shell_[v]], after = before + change;
+    if (!(after != 0) || (after > 0) != (before > 0)) return false;
+
     // A few samples first (corners, edge midpoints, centroid): most refusals are found there,
     // before the costlier crossing test and the full grid of samples.
     if (!samples_within(2)) return false;
@@ -300,6 +335,7 @@ class Simplifier {
     vtris_[u].shrink_to_fit();
     vdead_[u] = 1;
     Q_[v].add(Q_[u]);
+    volume_[shell_[v]] = after;
     ++version_[v];
     ring(v, nbr_v_);
     for (std::uint32_t w : nbr_v_)
