@@ -180,8 +180,10 @@ SlicedPart slice_field(const Tape& tape, const FieldInfo& info, const PrintSetti
     for (int j = 1; j <= s.bottom_layers; ++j) below.push_back(i - j >= 0 ? &rough[ui - static_cast<std::size_t>(j)] : nullptr);
     const Region solid = solid_region(rough[ui], above, below);
     InfillSource source;
+    std::vector<Polyline> loops;  // this layer's gyroid contours, found once for all its islands
     if (gyroid)
       source = [&, worker](double z, const Region& region) {
+        if (!loops.empty()) return clip(loops, region);
         auto& gs = gyroid_sections[static_cast<std::size_t>(worker)];
         if (!gs) {
           CrossSectionOptions go;
@@ -192,7 +194,6 @@ SlicedPart slice_field(const Tape& tape, const FieldInfo& info, const PrintSetti
           gs = std::make_unique<CrossSectioner>(*gyroid_tape, Point2{part.lo.x - 1, part.lo.y - 1},
                                                 Point2{part.hi.x + 1, part.hi.y + 1}, go);
         }
-        std::vector<Polyline> loops;
         for (Ring& r : gs->section(z)) {
           r.push_back(r.front());
           loops.push_back(std::move(r));
@@ -201,7 +202,8 @@ SlicedPart slice_field(const Tape& tape, const FieldInfo& info, const PrintSetti
       };
     const double section_z = (i + 0.5) * h;
     part.layers[ui] = plan_layer(i, (i + 1) * h, section_z, outlines[ui], solid, s, source, part.lo);
-    ++planned;
+    const int n = ++planned;
+    if (worker == 0) progress("tool paths", static_cast<double>(n) / count);
   });
   progress("tool paths", 1);
   for (const Region& r : outlines) part.volume += area(r) * h;
