@@ -44,7 +44,7 @@ void add_lipschitz_option(CLI::App* cmd, double& value);
 
 // --max-error E (model units) or Nc (N cells): the bound of the simplification after meshing
 // (MeshOptions::max_error); 0 (the default) keeps the uniform mesh: the simplification costs
-// 20 to 45 times the meshing today, too much to impose. `set_max_error` puts a checked value in
+// 10 to 30 times the meshing today, too much to impose. `set_max_error` puts a checked value in
 // the options.
 inline constexpr const char* kDefaultMaxError = "0";
 void add_max_error_option(CLI::App* cmd, std::string& value);
