@@ -41,11 +41,16 @@ void gap_fill(const Region& gap, const PrintSettings& s, PathRole role, std::vec
     }
     const Ring& r = piece[0];
     if (length(r, true) < 2 * w) continue;  // a speck
-    std::size_t a = 0, b = 0;
-    double best = -1;
-    for (std::size_t i = 0; i < r.size(); ++i)
-      for (std::size_t j = i + 1; j < r.size(); ++j)
-        if (const double d = dist2(r[i], r[j]); d > best) best = d, a = i, b = j;
+    // Its two ends: the point farthest from the first, and the one farthest from that (two
+    // sweeps instead of all pairs, which long slivers of lattice parts make costly).
+    const auto farthest = [&](std::size_t from) {
+      std::size_t at = from;
+      for (std::size_t i = 0; i < r.size(); ++i)
+        if (dist2(r[i], r[from]) > dist2(r[at], r[from])) at = i;
+      return at;
+    };
+    std::size_t a = farthest(0), b = farthest(a);
+    if (a > b) std::swap(a, b);
     Polyline half(r.begin() + static_cast<std::ptrdiff_t>(a), r.begin() + static_cast<std::ptrdiff_t>(b) + 1);
     out.push_back({role, false, std::move(half)});
   }
