@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -73,7 +74,7 @@ void register_slice(CLI::App& app) {
   auto* keep = cmd->add_flag("--keep-position", a->keep,
                              "Keep the model's x and y (it must lie on the bed) instead of centring it; z always starts at 0");
   cmd->add_option("--bounds", a->bounds,
-                  "Region to slice, x0,y0,z0,x1,y1,z1 (default: the box the input carries, a mesh's own, else found "
+                  "Region to slice, x0,y0,z0,x1,y1,z1 in the model's units (before --scale; default: the box the input carries, a mesh's own, else found "
                   "by interval search; a shape reaching the bounds is cut there: lattices, half-spaces)")
       ->delimiter(',')
       ->expected(6);
@@ -86,7 +87,7 @@ void register_slice(CLI::App& app) {
   cmd->add_option("--preview-layer", a->preview_layer,
                   "The layer shown in --preview and in an SVG output (0 = first; default: the middle one)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--preview-size", a->preview_size, "Width of the --preview picture in pixels")
+  cmd->add_option("--preview-size", a->preview_size, "The longer side of the --preview picture in pixels")
       ->check(CLI::Range(16, 16384))
       ->capture_default_str();
   cmd->add_option("--threads,-j", a->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
@@ -150,7 +151,8 @@ void register_slice(CLI::App& app) {
     const Tape tape = Tape::compile(*m.graph, root.id());
     slice::SlicerOptions o;
     o.threads = a->threads;
-    o.lipschitz = lipschitz_of(m, a->lipschitz);
+    // The field sliced is f(p / scale): a bound given for the input's field is divided by the scale.
+    o.lipschitz = a->lipschitz >= 0 ? a->lipschitz / a->scale : info.lipschitz;
     const bool show = !a->quiet && ::isatty(STDERR_FILENO);
     bool shown = false;
     if (show)
@@ -179,13 +181,14 @@ void register_slice(CLI::App& app) {
       int first = 0, last = layers - 1;
       if (!a->svg_layers.empty()) {
         const auto dash = a->svg_layers.find('-');
-        try {
-          std::size_t used = 0;
-          first = std::stoi(a->svg_layers.substr(0, dash), &used);
-          last = dash == std::string::npos ? first : std::stoi(a->svg_layers.substr(dash + 1));
-        } catch (const std::exception&) {
-          throw CLI::ValidationError("--svg-layers", "expected N or FIRST-LAST, got '" + a->svg_layers + "'");
-        }
+        const auto whole = [&](const std::string& t, int& v) {
+          const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+          return !t.empty() && r.ec == std::errc() && r.ptr == t.data() + t.size();
+        };
+        const bool ok = dash == std::string::npos
+                            ? whole(a->svg_layers, first) && (last = first, true)
+                            : whole(a->svg_layers.substr(0, dash), first) && whole(a->svg_layers.substr(dash + 1), last);
+        if (!ok) throw CLI::ValidationError("--svg-layers", "expected N or FIRST-LAST, got '" + a->svg_layers + "'");
         if (first < 0 || last < first || last >= layers)
           throw CLI::ValidationError("--svg-layers", fmt::format("the part has layers 0 to {}, got '{}'", layers - 1, a->svg_layers));
       }

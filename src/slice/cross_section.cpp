@@ -481,7 +481,13 @@ struct SectionVisitor {
       const double chord = std::hypot(pts[s][1].x - pts[s][0].x, pts[s][1].y - pts[s][0].y);
       if (chord * std::acos(c) / 8 <= 0.25 * o->tolerance) checked[s][0] = 1;
     }
+    auto newton = [](Point2 p, const Grad& gq, bool& ok) {
+      const double gl2 = static_cast<double>(gq.dx) * gq.dx + static_cast<double>(gq.dy) * gq.dy;
+      ok = gl2 > 0 && std::isfinite(gl2) && std::isfinite(gq.v);
+      return ok ? Point2{p.x - gq.v * gq.dx / gl2, p.y - gq.v * gq.dy / gl2} : p;
+    };
     for (int round = 0; round < 3; ++round) {
+      // The chords not checked yet, by segment and index at the start of the round.
       std::vector<std::pair<std::size_t, std::size_t>> chords;
       w.xs.clear(), w.ys.clear();
       for (std::size_t s = 0; s < segs.size(); ++s)
@@ -494,14 +500,9 @@ struct SectionVisitor {
         }
       if (chords.empty()) break;
       eval_grad(w, tape, chords.size());
-      // The chords whose midpoints are off, and their points as Newton moves them.
+      // Chords whose midpoints are off (indices into `chords`), and their points as Newton moves them.
       std::vector<std::size_t> off;
       std::vector<Point2> at;
-      auto newton = [](Point2 p, const Grad& gq, bool& ok) {
-        const double gl2 = static_cast<double>(gq.dx) * gq.dx + static_cast<double>(gq.dy) * gq.dy;
-        ok = gl2 > 0 && std::isfinite(gl2) && std::isfinite(gq.v);
-        return ok ? Point2{p.x - gq.v * gq.dx / gl2, p.y - gq.v * gq.dy / gl2} : p;
-      };
       for (std::size_t q = 0; q < chords.size(); ++q) {
         const Grad& gq = w.gout[q];
         const double gl = std::hypot(gq.dx, gq.dy);
@@ -510,45 +511,42 @@ struct SectionVisitor {
         const Point2 p = newton({w.xs[q], w.ys[q]}, gq, ok);
         if (ok) off.push_back(q), at.push_back(p);
       }
+      // Up to two more Newton steps; a point that lands in its cell on the zero set splits its chord.
+      std::vector<std::pair<std::size_t, Point2>> splits;  // (index into `chords`, the new point)
       for (int step = 0; step < 2 && !off.empty(); ++step) {
         w.xs.clear(), w.ys.clear();
         for (const Point2& p : at) w.xs.push_back(static_cast<float>(p.x)), w.ys.push_back(static_cast<float>(p.y));
         eval_grad(w, tape, at.size());
-        std::vector<std::size_t> keep_off;
-        std::vector<Point2> keep_at;
+        std::vector<std::size_t> next_off;
+        std::vector<Point2> next_at;
         for (std::size_t q = 0; q < off.size(); ++q) {
           const Grad& gq = w.gout[q];
           const double gl = std::hypot(gq.dx, gq.dy);
           const Point2 p{w.xs[q], w.ys[q]};
-          const auto [s, k] = chords[off[q]];
+          const std::size_t s = chords[off[q]].first;
           const Point2 lo = cell_lo(segs[s]), hi = cell_hi(segs[s]);
           if (!(p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y)) continue;  // left its cell: keep the chord
           if (gl > 0 && std::isfinite(gl) && std::fabs(gq.v) / gl <= 0.5 * o->tolerance) {
-            // On the zero set: split the chord (from the back, so earlier indices stay valid).
-            keep_off.push_back(off[q]);
-            keep_at.push_back(p);
+            splits.push_back({off[q], p});
             continue;
           }
           bool ok = false;
           const Point2 np = newton(p, gq, ok);
-          if (ok && step == 0) keep_off.push_back(off[q] | (std::size_t{1} << 63)), keep_at.push_back(np);
-        }
-        // Entries with the top bit need another step; the others are done.
-        std::vector<std::size_t> next_off;
-        std::vector<Point2> next_at;
-        for (std::size_t q = keep_off.size(); q-- > 0;) {
-          if (keep_off[q] >> 63) {
-            next_off.push_back(keep_off[q] & ~(std::size_t{1} << 63));
-            next_at.push_back(keep_at[q]);
-            continue;
-          }
-          const auto [s, k] = chords[keep_off[q]];
-          pts[s].insert(pts[s].begin() + static_cast<std::ptrdiff_t>(k) + 1, keep_at[q]);
-          checked[s].insert(checked[s].begin() + static_cast<std::ptrdiff_t>(k) + 1, 0);
-          checked[s][k] = 0;
+          if (ok && step == 0) next_off.push_back(off[q]), next_at.push_back(np);
         }
         off = std::move(next_off);
         at = std::move(next_at);
+      }
+      // Insert the splits from each segment's last chord to its first, so that the indices taken
+      // at the start of the round stay right; the two halves of a split chord get checked next round.
+      std::sort(splits.begin(), splits.end(), [&](const auto& x, const auto& y) {
+        return chords[x.first] > chords[y.first];
+      });
+      for (const auto& [c, p] : splits) {
+        const auto [s, k] = chords[c];
+        pts[s].insert(pts[s].begin() + static_cast<std::ptrdiff_t>(k) + 1, p);
+        checked[s].insert(checked[s].begin() + static_cast<std::ptrdiff_t>(k) + 1, 0);
+        checked[s][k] = 0;
       }
     }
 
@@ -606,9 +604,16 @@ Region CrossSectioner::section(double z) {
     Ring ring;
     std::uint64_t key = start;
     for (;;) {
+      FREP_ASSERT(key == start || !used.count(key), "marching squares: two segments enter one crossing");
       used.emplace(key, 1);
       const auto it = from.find(key);
-      FREP_ASSERT(it != from.end(), "marching squares: an open contour");
+      // A contour that stops can only come from a tile settled as all inside or all outside
+      // where the zero set crosses it: a Lipschitz bound smaller than the field's.
+      if (it == from.end())
+        throw InputError("", 0,
+                         "the cross-section at z = " + std::to_string(z) +
+                             " does not close: the field changes faster than the Lipschitz bound used (" +
+                             std::to_string(options_.lipschitz) + ") allows; give a larger --lipschitz, or 0");
       const auto& w = *m.workers[it->second.worker];
       const Segment& s = w.segments[it->second.index];
       ring.push_back(point.at(key));

@@ -85,9 +85,9 @@ Image layer_preview(const SlicedPart& part, const PrintSettings& s, int index, i
   const double pad = 1;
   const double x0 = part.lo.x - pad, y0 = part.lo.y - pad;
   const double wd = part.hi.x - part.lo.x + 2 * pad, ht = part.hi.y - part.lo.y + 2 * pad;
-  const double scale = pixels / wd;  // pixels per mm
+  const double scale = pixels / std::max(wd, ht);  // pixels per mm: the longer side is `pixels`
   Image img;
-  img.width = pixels;
+  img.width = std::max(1, static_cast<int>(std::lround(wd * scale)));
   img.height = std::max(1, static_cast<int>(std::lround(ht * scale)));
   img.channels = 3;
   img.pixels.assign(static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height) * 3, 255);

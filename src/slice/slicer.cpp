@@ -29,7 +29,7 @@ double find_extreme(CrossSectioner& sec, double a, double b, double step, double
   const double from = up ? a : b, dir = up ? 1 : -1;
   if (sec.has_inside(from)) return from;  // the shape reaches the region's end: cut there
   double outside = from, inside = NAN;
-  const int steps = static_cast<int>(std::ceil((b - a) / step));
+  const int steps = static_cast<int>(std::ceil((b - a) / step));  // slice_field keeps it below 2^22
   for (int k = 1; k <= steps; ++k) {
     const double z = from + dir * std::min(k * step, b - a);
     if (sec.has_inside(z)) {
@@ -88,6 +88,11 @@ SlicedPart slice_field(const Tape& tape, const FieldInfo& info, const PrintSetti
 
   // The part's bottom and top, where planes start and stop holding inside points.
   const double za = box.lo.z, zb = box.hi.z;
+  // The planes are searched half a layer apart: a region far taller than the printer could take
+  // ages (an interval search box, or --bounds, around a flat part).
+  if (!(zb - za <= 4 * s.max_height + 10 * h) || (zb - za) / (h / 2) > (1 << 22))
+    throw InputError("", 0, "the region to slice spans " + mm(zb - za) + " mm in z, far more than the printer's " +
+                                mm(s.max_height) + " mm: give --bounds closer to the part");
   const double precision = 1e-5 * h;
   const double bottom = find_extreme(sec, za, zb, h / 2, precision, true);
   if (std::isnan(bottom))
@@ -96,13 +101,13 @@ SlicedPart slice_field(const Tape& tape, const FieldInfo& info, const PrintSetti
                      "anywhere, or only in parts thinner than half a layer or a cross-section cell)");
   const double top = find_extreme(sec, bottom, zb, h / 2, precision, false);
   const double height = std::isnan(top) ? 0 : top - bottom;
+  if (height > s.max_height)
+    throw InputError("", 0, "the part is " + mm(height) + " mm tall, more than the printer's " + mm(s.max_height) +
+                                " mm (max_height)");
   const int count = static_cast<int>(std::llround(height / h));
   if (count < 1)
     throw InputError("", 0, "the part is " + std::to_string(height) + " mm tall, less than half a layer (" +
                                 std::to_string(h) + " mm): nothing to print");
-  if (height > s.max_height)
-    throw InputError("", 0, "the part is " + mm(height) + " mm tall, more than the printer's " + mm(s.max_height) +
-                                " mm (max_height)");
 
   SlicedPart part;
   part.height = height;

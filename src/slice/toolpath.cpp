@@ -3,7 +3,7 @@
 // whole lane fits (sharp corners stay sharp: erosion keeps convex corners sharp and a miter
 // dilation keeps them so; concave corners are arcs both ways), and absent where the two sides'
 // lanes would overlap. Strips too thin for a lane on each side but at least one line wide get one
-// line down their middle (gap fill), so no gap is wider than a line.
+// line along them, within half a width of their middle (gap fill), so no gap is wider than a line.
 #include "frep/slice/toolpath.hpp"
 
 #include <algorithm>
@@ -27,16 +27,17 @@ Region dilate_sharp(const Region& r, double delta, const PrintSettings& s) {
 
 double dist2(Point2 a, Point2 b) { return (a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y); }
 
-// Centre lines of strips at most two widths wide: the strip shrunk by just under half a width is
-// at most a width wide; its boundary, halved between its two farthest points (or a hole's ring
-// for a closed strip), runs within half a width of the middle.
+// Lines along strips one to two widths wide: the strip shrunk by just under half a width is
+// less than a width wide; its boundary, halved between its two ends (or its holes' rings for a
+// closed strip), runs within half a width of the strip's middle, and a line there stays in the
+// strip.
 void gap_fill(const Region& gap, const PrintSettings& s, PathRole role, std::vector<ToolPath>& out) {
   const double w = s.line_width;
   const Region sliver = offset(gap, -0.499 * w, arc_tolerance(s));
   for (const Region& piece : islands(sliver)) {
     if (piece.empty()) continue;
-    if (piece.size() > 1) {  // a closed strip: a ring of it goes around
-      out.push_back({role, true, piece[1]});
+    if (piece.size() > 1) {  // a closed strip: its holes' rings go around
+      for (std::size_t k = 1; k < piece.size(); ++k) out.push_back({role, true, piece[k]});
       continue;
     }
     const Ring& r = piece[0];

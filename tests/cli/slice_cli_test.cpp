@@ -154,3 +154,32 @@ TEST(SliceCli, SharedMeshesSliceOrAreRefusedWithTheReason) {
 
 }  // namespace
 }  // namespace frep::test
+
+namespace frep::test {
+namespace {
+
+// --scale below 1 makes the field change faster than the input's own Lipschitz bound: the bound
+// used must follow (it once did not, and tiles crossed by the surface were settled).
+TEST(SliceCli, ScaleAndAWrongLipschitzBound) {
+  ScratchDir d;
+  write_text(d.path("part.rhai"), kPocket);
+  const std::string in = shell_quote(d.path("part.rhai")), out = shell_quote(d.path("p.gcode"));
+  CliRun r = run_frep(d, "slice " + in + " -o " + out + " --scale 0.5");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("part: 10.00 x 8.00 x 5.00 mm"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("layers: 25 of 0.2 mm"), std::string::npos) << r.out;
+  EXPECT_TRUE(read_gcode(read_text(d.path("p.gcode"))).problems.empty());
+  // A bound far too small is the user's mistake, said as such (not an internal error).
+  r = run_frep(d, "slice " + in + " -o " + out + " --lipschitz 0.05");
+  EXPECT_NE(r.code, 3) << r.err;
+  if (r.code != 0) EXPECT_NE(r.err.find("--lipschitz"), std::string::npos) << r.err;
+  r = run_frep(d, "slice " + in + " -o " + shell_quote(d.path("l.svg")) + " --svg-layers 5abc");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("expected N or FIRST-LAST"), std::string::npos) << r.err;
+  r = run_frep(d, "slice " + in + " -o " + out + " --set retract_length=0");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(read_text(d.path("p.gcode")).find("E-0.00000"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace frep::test

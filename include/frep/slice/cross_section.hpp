@@ -4,7 +4,8 @@
 // their own simplified tape). Every vertex is refined onto the zero set along its grid edge;
 // where the curve turns sharply inside a cell, the corner where the two tangents meet is added
 // (sharp edges of CAD parts stay sharp); chords farther than a tolerance from the zero set are
-// split at points projected onto it.
+// split at points projected onto it (up to three rounds). The rings are made non-crossing by a
+// final union (Clipper), whatever the refinements did.
 #pragma once
 
 #include <memory>
@@ -20,7 +21,7 @@ namespace frep::slice {
 
 struct CrossSectionOptions {
   double cell = 0.05;           // edge of the grid's square cells (model units)
-  double tolerance = 0.0005;    // chords are split until their midpoints are within this of the zero set (estimated as |f| / |grad f|)
+  double tolerance = 0.0005;    // chords are split (three rounds at most) where their midpoints are farther than this from the zero set (estimated as |f| / |grad f|)
   double corner_cosine = 0.95;  // a cell whose two crossings' normals meet at a cosine below this gets a corner vertex
   double lipschitz = 0;         // known bound L on |f(p) - f(q)| / |p - q| (1 for exact distances); 0 = unknown
   int threads = 0;              // worker threads; 0 = all hardware threads

@@ -25,7 +25,8 @@ struct LayerColours {
 void write_layers_svg(std::ostream& out, const SlicedPart& part, const PrintSettings& settings, int shown,
                       int first = 0, int last = -1);
 
-// Layer `index` as a picture `pixels` wide (its height follows the part's aspect), white background.
+// Layer `index` as a picture whose longer side is `pixels` (the other follows the part's aspect),
+// white background.
 Image layer_preview(const SlicedPart& part, const PrintSettings& settings, int index, int pixels);
 
 }  // namespace frep::slice

@@ -42,8 +42,8 @@ Region coarse(const Region& region, double tolerance);
 // (a thin wall gets the walls that fit). `inner` receives the region left inside the walls.
 std::vector<ToolPath> walls(const Region& island, const PrintSettings& settings, Region* inner = nullptr);
 
-// Parallel lines at `spacing` apart and `angle_degrees`, on a lattice fixed in the plane (so that
-// layers line up), covering [lo, hi] and clipped to `region`.
+// Parallel lines `spacing` apart at `angle_degrees`, on a lattice fixed in the plane (so that
+// layers line up), clipped to `region`.
 std::vector<Polyline> line_fill(const Region& region, double spacing, double angle_degrees);
 
 // The part of `outline` within `layers` layers of a top surface or a bottom surface: where the
