@@ -142,13 +142,18 @@ std::vector<ToolPath> walls(const Region& island, const PrintSettings& s, Region
     for (const Ring& r : exact_rough) outline += length(r, true);
     const double slack = 0.01 * w * w + outline * margin;
     const Region exact = offset(fine, -(k - 0.5) * w, tol);
-    const Region wall = area(exact_rough) - area(grown) <= slack ? exact : intersect(exact, grown);
+    const bool fits = area(exact_rough) - area(grown) <= slack;
+    const Region wall = fits ? exact : intersect(exact, grown);
     for (const Ring& r : wall)
       if (r.size() >= 3) out.push_back({role, true, r});
-    // What the wall's lane leaves of this band: strips too thin for a lane on each side. A strip
-    // that can take a line is at least a line wide and two long: less area than that is none.
-    const Region lanes = dilate_sharp(core, w + margin, s);
-    if (area(base) - area(lanes) > 1.98 * w * w - outline * margin) gap_fill(subtract(base, lanes), s, PathRole::WallInner, out);
+    // What the wall's lane leaves of this band: strips too thin for a lane on each side. Where
+    // every lane fits, what is left is no wider than a line anywhere (the band minus its lanes is
+    // the band minus its opening by half a width), so nothing to fill. A strip that can take a
+    // line is at least a line wide and two long: less area than that is none either.
+    if (!fits) {
+      const Region lanes = dilate_sharp(core, w + margin, s);
+      if (area(base) - area(lanes) > 1.98 * w * w - outline * margin) gap_fill(subtract(base, lanes), s, PathRole::WallInner, out);
+    }
     base = core;
   }
   if (inner) *inner = base;
