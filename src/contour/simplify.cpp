@@ -12,6 +12,7 @@
 
 #include "frep/eval/evaluators.hpp"
 #include "frep/mesh/tri_tri.hpp"
+#include "util/union_find.hpp"
 
 namespace frep::contour {
 namespace {
@@ -85,18 +86,9 @@ class Simplifier {
     // vertex: a collapse never turns a shell inside out, which a tiny cavity (a tetrahedron of
     // volume 1e-12) would otherwise undergo while each of its triangles turns less than the
     // flip check allows.
-    shell_.assign(P_.size(), 0);
-    for (std::uint32_t i = 0; i < P_.size(); ++i) shell_[i] = i;
-    const auto find = [&](std::uint32_t a) {
-      while (shell_[a] != a) a = shell_[a] = shell_[shell_[a]];
-      return a;
-    };
-    for (const Triangle& tr : T_)
-      for (int k = 1; k < 3; ++k) {
-        const std::uint32_t a = find(tr[0]), b = find(tr[k]);
-        if (a != b) shell_[std::max(a, b)] = std::min(a, b);
-      }
-    for (std::uint32_t i = 0; i < P_.size(); ++i) shell_[i] = find(i);
+    UnionFind shells(P_.size());
+    for (const Triangle& tr : T_) shells.unite(tr[0], tr[1]), shells.unite(tr[0], tr[2]);
+    shell_ = std::move(shells).roots();
     volume_.assign(P_.size(), 0);
     for (const Triangle& tr : T_) {
       const Vec3 o = P_[shell_[tr[0]]];

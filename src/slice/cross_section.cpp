@@ -32,6 +32,14 @@ constexpr int kEdgeCorners[4][2] = {{0, 1}, {1, 2}, {3, 2}, {0, 3}};
 // The two edges next to each corner.
 constexpr int kCornerEdges[4][2] = {{0, 3}, {0, 1}, {1, 2}, {2, 3}};
 
+// How far a point is from the zero set, estimated from its value and in-plane gradient as
+// |f| / |grad f|; NaN where that cannot be told (no gradient, or not finite).
+double off_zero_set(const Grad& g) {
+  const double gl = std::hypot(g.dx, g.dy);
+  if (!(gl > 0) || !std::isfinite(gl) || !std::isfinite(g.v)) return NAN;
+  return std::fabs(g.v) / gl;
+}
+
 // Orders the segment between edges a and b so that `corner` lies on its left if `left`, else on its right.
 std::array<int, 2> orient(int a, int b, int corner, bool left) {
   const double px = kEdgeMid[a][0], py = kEdgeMid[a][1];
@@ -76,6 +84,16 @@ struct CrossSectioner::Impl {
   double sx(int i) const { return static_cast<double>(grid.coords[0][static_cast<std::size_t>(i)]); }
   double sy(int j) const { return static_cast<double>(grid.coords[1][static_cast<std::size_t>(j)]); }
   bool border(int i, int j) const { return i == 0 || j == 0 || i == nx || j == ny; }
+  // The samples of a tile (its box of cells, corners included), row by row, at height z.
+  void tile_samples(Worker& w, const IndexBox& box, float z) const {
+    w.xs.clear(), w.ys.clear();
+    for (int j = box.lo[1]; j <= box.hi[1]; ++j)
+      for (int i = box.lo[0]; i <= box.hi[0]; ++i) {
+        w.xs.push_back(grid.coords[0][static_cast<std::size_t>(i)]);
+        w.ys.push_back(grid.coords[1][static_cast<std::size_t>(j)]);
+      }
+    w.zs.assign(w.xs.size(), z);
+  }
   std::uint64_t h_edge(int i, int j) const { return (static_cast<std::uint64_t>(j) * static_cast<std::uint64_t>(nx + 1) + static_cast<std::uint64_t>(i)) * 2; }
   std::uint64_t v_edge(int i, int j) const { return h_edge(i, j) + 1; }
 };
@@ -133,13 +151,7 @@ struct InsideVisitor {
   }
   void leaf(int worker, const Tape& tape, const IndexBox& box) {
     auto& w = *m->workers[static_cast<std::size_t>(worker)];
-    w.xs.clear(), w.ys.clear();
-    for (int j = box.lo[1]; j <= box.hi[1]; ++j)
-      for (int i = box.lo[0]; i <= box.hi[0]; ++i) {
-        w.xs.push_back(m->grid.coords[0][static_cast<std::size_t>(i)]);
-        w.ys.push_back(m->grid.coords[1][static_cast<std::size_t>(j)]);
-      }
-    w.zs.assign(w.xs.size(), z);
+    m->tile_samples(w, box, z);
     w.out.resize(w.xs.size());
     w.batch.eval(tape, w.xs.data(), w.ys.data(), w.zs.data(), w.out.data(), w.xs.size());
     for (std::size_t k = 0; k < w.out.size(); ++k) {
@@ -219,12 +231,7 @@ struct SectionVisitor {
     const int cx = box.hi[0] - i0, cy = box.hi[1] - j0;  // cells
     const int sxn = cx + 1;
     // Values at the tile's samples; samples on the grid's border count as outside.
-    w.xs.clear(), w.ys.clear();
-    for (int j = 0; j <= cy; ++j)
-      for (int i = 0; i <= cx; ++i) {
-        w.xs.push_back(g.grid.coords[0][static_cast<std::size_t>(i0 + i)]);
-        w.ys.push_back(g.grid.coords[1][static_cast<std::size_t>(j0 + j)]);
-      }
+    g.tile_samples(w, box, z);
     eval(w, tape, w.xs.size());
     w.values = w.out;
     auto value = [&](int i, int j) { return w.values[static_cast<std::size_t>(j * sxn + i)]; };
@@ -505,8 +512,8 @@ struct SectionVisitor {
       std::vector<Point2> at;
       for (std::size_t q = 0; q < chords.size(); ++q) {
         const Grad& gq = w.gout[q];
-        const double gl = std::hypot(gq.dx, gq.dy);
-        if (!(gl > 0) || !std::isfinite(gl) || !std::isfinite(gq.v) || std::fabs(gq.v) / gl <= o->tolerance) continue;
+        const double away = off_zero_set(gq);
+        if (std::isnan(away) || away <= o->tolerance) continue;
         bool ok = false;
         const Point2 p = newton({w.xs[q], w.ys[q]}, gq, ok);
         if (ok) off.push_back(q), at.push_back(p);
@@ -521,12 +528,11 @@ struct SectionVisitor {
         std::vector<Point2> next_at;
         for (std::size_t q = 0; q < off.size(); ++q) {
           const Grad& gq = w.gout[q];
-          const double gl = std::hypot(gq.dx, gq.dy);
           const Point2 p{w.xs[q], w.ys[q]};
           const std::size_t s = chords[off[q]].first;
           const Point2 lo = cell_lo(segs[s]), hi = cell_hi(segs[s]);
           if (!(p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y)) continue;  // left its cell: keep the chord
-          if (gl > 0 && std::isfinite(gl) && std::fabs(gq.v) / gl <= 0.5 * o->tolerance) {
+          if (off_zero_set(gq) <= 0.5 * o->tolerance) {
             splits.push_back({off[q], p});
             continue;
           }

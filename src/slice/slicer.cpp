@@ -82,24 +82,27 @@ SlicedPart slice_field(const Tape& tape, const FieldInfo& info, const PrintSetti
   co.tolerance = s.section_tolerance;
   co.lipschitz = lipschitz;
   co.threads = options.threads;
-  // The sectioner adds a cell of margin around the region (outside by definition): a shape
-  // reaching the region's sides is cut there.
-  CrossSectioner sec(tape, {box.lo.x, box.lo.y}, {box.hi.x, box.hi.y}, co);
-
-  // The part's bottom and top, where planes start and stop holding inside points.
+  // The part's bottom and top, where planes start and stop holding inside points, searched half
+  // a layer apart: a region far taller than the printer could take ages (an interval search box,
+  // or --bounds, around a flat part).
   const double za = box.lo.z, zb = box.hi.z;
-  // The planes are searched half a layer apart: a region far taller than the printer could take
-  // ages (an interval search box, or --bounds, around a flat part).
   if (!(zb - za <= 4 * s.max_height + 10 * h) || (zb - za) / (h / 2) > (1 << 22))
     throw InputError("", 0, "the region to slice spans " + mm(zb - za) + " mm in z, far more than the printer's " +
                                 mm(s.max_height) + " mm: give --bounds closer to the part");
-  const double precision = 1e-5 * h;
-  const double bottom = find_extreme(sec, za, zb, h / 2, precision, true);
-  if (std::isnan(bottom))
-    throw InputError("", 0,
-                     "nothing to print: no plane through the bounds crosses the inside (the field is not negative "
-                     "anywhere, or only in parts thinner than half a layer or a cross-section cell)");
-  const double top = find_extreme(sec, bottom, zb, h / 2, precision, false);
+  double bottom = NAN, top = NAN;
+  {
+    // The sectioner adds a cell of margin around the region (outside by definition): a shape
+    // reaching the region's sides is cut there. This one searches on all threads; the layers
+    // below get one per worker.
+    CrossSectioner sec(tape, {box.lo.x, box.lo.y}, {box.hi.x, box.hi.y}, co);
+    const double precision = 1e-5 * h;
+    bottom = find_extreme(sec, za, zb, h / 2, precision, true);
+    if (std::isnan(bottom))
+      throw InputError("", 0,
+                       "nothing to print: no plane through the bounds crosses the inside (the field is not negative "
+                       "anywhere, or only in parts thinner than half a layer or a cross-section cell)");
+    top = find_extreme(sec, bottom, zb, h / 2, precision, false);
+  }
   const double height = std::isnan(top) ? 0 : top - bottom;
   if (height > s.max_height)
     throw InputError("", 0, "the part is " + mm(height) + " mm tall, more than the printer's " + mm(s.max_height) +
