@@ -34,22 +34,8 @@ trap 'rm -rf "$work"' EXIT
 
 # The measured error of one STL against the input's exact field: prints max |f|, max |f|/|grad f|,
 # and their 99th percentiles.
-cat >"$work/points.py" <<'EOF'
-import sys, numpy as np
-d = open(sys.argv[1], 'rb').read()
-n = int.from_bytes(d[80:84], 'little')
-rec = np.frombuffer(d[84:84 + 50 * n], dtype=np.dtype([('n', '<f4', 3), ('v', '<f4', (3, 3)), ('a', '<u2')]))
-v = rec['v'].astype(np.float64)
-rng = np.random.default_rng(1)
-a, b = rng.random((2, n, 4, 1))
-flip = a + b > 1
-a, b = np.where(flip, 1 - a, a), np.where(flip, 1 - b, b)
-inner = v[:, None, 0] + a * (v[:, None, 1] - v[:, None, 0]) + b * (v[:, None, 2] - v[:, None, 0])
-pts = np.concatenate([np.unique(v.reshape(-1, 3), axis=0), inner.reshape(-1, 3)])
-np.savetxt(sys.argv[2], pts, fmt='%.9g')
-EOF
 max_error() {
-  "$PY" "$work/points.py" "$2" "$work/pts.txt"
+  stl_probe_points "$2" "$work/pts.txt"
   build/frep eval "$1" --points "$work/pts.txt" -g 2>/dev/null | "$PY" -c "
 import sys, numpy as np
 a = np.array(sys.stdin.read().split(), dtype=np.float64).reshape(-1, 4)

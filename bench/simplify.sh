@@ -30,23 +30,10 @@ run() {
 }
 
 # the largest |d| of the input mesh's exact distance at a mesh's vertices and 4 random points
-# per triangle
+# per triangle (stl_probe_points)
 max_error() {
   local in=$1 stl=$2
-  "$PY" - "$stl" "$work/pts.txt" <<'EOF'
-import sys, numpy as np
-d = open(sys.argv[1], 'rb').read()
-n = int.from_bytes(d[80:84], 'little')
-rec = np.frombuffer(d[84:84 + 50 * n], dtype=np.dtype([('n', '<f4', 3), ('v', '<f4', (3, 3)), ('a', '<u2')]))
-v = rec['v'].astype(np.float64)
-rng = np.random.default_rng(1)
-a, b = rng.random((2, n, 4, 1))
-flip = a + b > 1
-a, b = np.where(flip, 1 - a, a), np.where(flip, 1 - b, b)
-inner = v[:, None, 0] + a * (v[:, None, 1] - v[:, None, 0]) + b * (v[:, None, 2] - v[:, None, 0])
-pts = np.concatenate([v.reshape(-1, 3), inner.reshape(-1, 3)])
-np.savetxt(sys.argv[2], pts, fmt='%.9g')
-EOF
+  stl_probe_points "$stl" "$work/pts.txt"
   build/frep eval "$in" --points "$work/pts.txt" 2>/dev/null | "$PY" -c "
 import sys
 print(max(abs(float(l)) for l in sys.stdin))"
