@@ -5,6 +5,7 @@ pkgs=(build-essential cmake ninja-build pkg-config
       libhwy-dev libcli11-dev libfmt-dev libstb-dev
       libgtest-dev libgmock-dev libbenchmark-dev
       lib3mf-dev    # 3MF output (-o part.3mf): the format slicers open directly
+      libasmjit-dev  # the JIT backend (FREP_BACKEND=jit): tapes compiled to x86-64 code
       libpolyclipping-dev  # Clipper: frep slice's perimeters (exact polygon offsets) and infill clipping
       libcgal-dev libeigen3-dev  # CGAL (header-only; with GMP, MPFR) and Eigen: frep repair's exact cuts and hole filling
       tetgen        # frep convert --sign tets runs the separate tetgen program (AGPL: never linked)

@@ -7,6 +7,7 @@
 
 #include "eval/interp_kernels.hpp"
 #include "frep/error.hpp"
+#include "frep/eval/jit.hpp"
 
 namespace frep {
 namespace {
@@ -28,7 +29,7 @@ const Backend& interpreter_backend() {
   return interpreter;
 }
 
-std::vector<const Backend*> available_backends() { return {&interpreter_backend()}; }
+std::vector<const Backend*> available_backends() { return {&interpreter_backend(), &jit_backend()}; }
 
 const Backend& backend_by_name(const std::string& name) {
   std::string names;

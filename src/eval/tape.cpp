@@ -1,6 +1,7 @@
 #include "frep/eval/tape.hpp"
 
 #include <algorithm>
+#include <atomic>
 
 #include "frep/error.hpp"
 #include "frep/expr/oracle.hpp"
@@ -22,6 +23,11 @@ bool foldable(Op op, float lo, float hi) {
 enum : std::uint8_t { kDead = 0, kLive = 1, kKeep = 3, kConst = 5, kLeft = 7, kRight = 9 };
 
 }  // namespace
+
+std::uint64_t next_tape_stamp() {
+  static std::atomic<std::uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
+}
 
 Tape Tape::compile(const Graph& g, NodeId root) {
   const std::vector<NodeId> order = reachable_nodes(g, root);

@@ -22,6 +22,9 @@ void grow_scratch(V& v, std::size_t n) {
   v.resize(want);
 }
 
+// A stamp never given before (Tape::stamp).
+std::uint64_t next_tape_stamp();
+
 // Up to this many values, one register per value beats running the allocator (the batch
 // evaluator's scratch stays small); beyond it registers are reused. Tapes that only run interval
 // passes afford more (16 boxes' bounds per register: 512 KB at 4096).
@@ -107,6 +110,7 @@ class Tape::Builder {
     t.code_size_ = k_;
     t.choices_ = choices_;
     t.vars_ = vars_;
+    t.stamp_ = next_tape_stamp();
     const std::uint32_t root = remap_[root_in * stride_] & ~kConstBit;
     if (root + 1 != m_) {
       // Only a constant root can end up before other (then dead) instructions.

@@ -7,12 +7,14 @@
 #include <optional>
 
 #include <algorithm>
+#include <cstring>
 #include <functional>
 #include <memory>
 #include <string>
 
 #include "frep/convert/mesh_oracle.hpp"
 #include "frep/eval/interval_batch.hpp"
+#include "frep/eval/jit.hpp"
 #include "frep/eval/point_cloud.hpp"
 #include "frep/expr/expr.hpp"
 #include "mesh_test_util.hpp"
@@ -122,8 +124,10 @@ struct PointBackend : Backend {
 };
 
 struct BatchBackend : Backend {
-  explicit BatchBackend(std::size_t b) : batch(b) {}
+  explicit BatchBackend(std::size_t b, std::unique_ptr<frep::Backend> on = nullptr)
+      : batch(b), backend(std::move(on)), ev(backend ? *backend : default_backend()) {}
   std::size_t batch;
+  std::unique_ptr<frep::Backend> backend;  // null: the default
   BatchEvaluator ev;
   std::vector<float> tmp;
   void run(const Tape& t, const std::vector<float>& xs, const std::vector<float>& ys, const std::vector<float>& zs,
@@ -139,6 +143,12 @@ struct BatchBackend : Backend {
     out.resize(n);
     for (std::size_t i = 0; i < n; ++i) out[i] = Interval::point(tmp[i]);
   }
+};
+
+// The batch evaluator on the JIT backend, compiling every tape on first use (normally only tapes
+// asked for enough points are), in one instruction set.
+struct JitBatchBackend : BatchBackend {
+  JitBatchBackend(std::size_t b, JitIsa isa) : BatchBackend(b, make_jit_backend({.isa = isa, .compile_after_points = 0})) {}
 };
 
 // The point cloud evaluator, made to simplify for every group of points (normally it only does
@@ -216,6 +226,8 @@ std::unique_ptr<Backend> make_backend(const std::string& name) {
   if (name == "Interval") return std::make_unique<IntervalBackend>();
   if (name == "IntervalBatch") return std::make_unique<IntervalBatchBackend>();
   if (name == "PointCloud") return std::make_unique<PointCloudBackend>();
+  for (const auto& [prefix, isa] : {std::pair{"JitAvx2Batch", JitIsa::Avx2}, std::pair{"JitAvx512Batch", JitIsa::Avx512}})
+    if (name.rfind(prefix, 0) == 0) return std::make_unique<JitBatchBackend>(std::stoul(name.substr(std::strlen(prefix))), isa);
   if (name.rfind("Batch", 0) == 0) return std::make_unique<BatchBackend>(std::stoul(name.substr(5)));
   if (name.rfind("Grad", 0) == 0) return std::make_unique<GradBackend>(std::stoul(name.substr(4)));
   return nullptr;
@@ -508,6 +520,11 @@ std::vector<std::string> conformance_params() {
   for (const char* simd : {"Batch1", "Batch7", "Batch8", "Batch9", "Batch255", "Batch256", "Batch257", "Batch1000",
                            "Grad1", "Grad63", "Grad64", "Grad65", "Grad1000", "IntervalBatch"})
     for (std::int64_t t : test::simd_targets()) v.push_back(std::string(simd) + "_" + test::simd_target_name(t));
+  // The JIT in each instruction set this CPU runs (the interpreter's SIMD target does not apply).
+  for (const auto& [isa, prefix] : {std::pair{JitIsa::Avx2, "JitAvx2Batch"}, std::pair{JitIsa::Avx512, "JitAvx512Batch"}}) {
+    if (!jit_supported(isa)) continue;
+    for (const char* b : {"1", "7", "8", "9", "16", "17", "256", "1000"}) v.push_back(std::string(prefix) + b);
+  }
   return v;
 }
 

@@ -66,6 +66,10 @@ class Tape {
   std::uint32_t choice_count() const { return choices_; }
   // Bit 0/1/2: x/y/z appear in the tape (an oracle counts as all three).
   std::uint8_t vars_used() const { return vars_; }
+  // Identifies the tape's contents: every tape built (compiled, or simplified into) gets a new
+  // stamp, copies keep it. Backends key compiled code by it (tape buffers are reused, so their
+  // address says nothing). 0 for an empty tape.
+  std::uint64_t stamp() const { return stamp_; }
   // The oracles its Op::Oracle instructions index (null if it has none); simplified tapes share
   // their parent's.
   const std::shared_ptr<const OracleTable>& oracles() const { return oracles_; }
@@ -100,6 +104,7 @@ class Tape {
   std::uint32_t root_reg_ = 0;
   std::uint32_t choices_ = 0;
   std::uint8_t vars_ = 0;
+  std::uint64_t stamp_ = 0;
   std::shared_ptr<const OracleTable> oracles_;
   LargeVector<std::uint32_t> remap_;  // scratch for simplification into this tape
   std::vector<std::uint8_t> state_;   // scratch for simplification into this tape

@@ -1,0 +1,138 @@
+// Differential check of the JIT backend against the interpreter: bytes decode into a tape over
+// every opcode (constants and points drawn from special values: NaN, +-0, infinities,
+// denormals, halves, the largest floats, or raw bits) and the two batch evaluators must agree
+// bit for bit (NaN for NaN). Shared by the fuzz target (fuzz_jit.cpp) and the test that replays its corpus
+// (tests/eval/jit_test.cpp).
+#pragma once
+
+#include <bit>
+#include <cfloat>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "frep/eval/evaluators.hpp"
+#include "frep/eval/jit.hpp"
+#include "frep/eval/tape.hpp"
+#include "frep/expr/opcode.hpp"
+
+namespace frep::fuzz {
+
+struct DiffCase {
+  std::vector<SsaInstr> ssa;
+  std::vector<float> xs, ys, zs;
+};
+
+inline const std::vector<float>& diff_special_values() {
+  static const std::vector<float> v = {
+      0.0f, -0.0f, 1.0f, -1.0f, 0.5f, -0.5f, 1.5f, -1.5f, 2.5f, -2.5f, 0.49999997f, 8388608.5f, 16777217.0f,
+      std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+      std::numeric_limits<float>::quiet_NaN(), -std::numeric_limits<float>::quiet_NaN(),
+      std::bit_cast<float>(0x7fa00001u),  // a signalling NaN with a payload
+      std::bit_cast<float>(0xffc12345u),  // a negative quiet NaN with a payload
+      std::numeric_limits<float>::denorm_min(), -std::numeric_limits<float>::denorm_min(), 1e-40f, -3e-39f,
+      FLT_MIN, -FLT_MIN, FLT_MAX, -FLT_MAX, 1e30f, -1e30f, 3.14159265f, -1.5707964f, 88.7f, -103.9f, 7.0f, 1e-7f};
+  return v;
+}
+
+// Reads bytes as the recipe of a case; past the end, reads zeros.
+class ByteReader {
+ public:
+  ByteReader(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
+  std::uint8_t byte() { return pos_ < size_ ? data_[pos_++] : 0; }
+  float value() {
+    const std::uint8_t k = byte();
+    if (k < 160) return diff_special_values()[k % diff_special_values().size()];
+    if (k < 224) return static_cast<float>(static_cast<int>(byte()) - 128) * 0.25f;
+    std::uint32_t bits = 0;
+    for (int i = 0; i < 4; ++i) bits = bits << 8 | byte();
+    return std::bit_cast<float>(bits);
+  }
+
+ private:
+  const std::uint8_t* data_;
+  std::size_t size_;
+  std::size_t pos_ = 0;
+};
+
+inline DiffCase decode_case(const std::uint8_t* data, std::size_t size) {
+  // Every opcode of the engine but the oracle, which the JIT never compiles.
+  static const std::vector<Op> ops = [] {
+    std::vector<Op> v;
+    for (int i = 0; i < kEngineOpCount; ++i)
+      if (static_cast<Op>(i) != Op::Oracle) v.push_back(static_cast<Op>(i));
+    return v;
+  }();
+  ByteReader r(data, size);
+  DiffCase c;
+  const int points = 1 + r.byte() % 40;
+  const int count = 1 + r.byte() % 96;
+  for (int i = 0; i < count; ++i) {
+    Op op = ops[r.byte() % ops.size()];
+    if (i == 0 && op_arity(op) > 0) op = Op::VarX;
+    SsaInstr s{op};
+    if (op == Op::Const) s.value = r.value();
+    if (op_arity(op) >= 1) s.a = static_cast<std::uint32_t>(i - 1 - r.byte() % i);  // mostly recent values
+    if (op_arity(op) >= 2) s.b = static_cast<std::uint32_t>(r.byte() % i);
+    c.ssa.push_back(s);
+  }
+  for (int i = 0; i < points; ++i) {
+    c.xs.push_back(r.value());
+    c.ys.push_back(r.value());
+    c.zs.push_back(r.value());
+  }
+  return c;
+}
+
+// The register code, one instruction a line.
+inline std::string describe(const Tape& t) {
+  std::string s;
+  for (const RegInstr& r : t.code()) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "\n  r%u = %s %s%u %s%u  imm %a", r.out, std::string(op_name(r.op)).c_str(),
+                  r.mode & RegInstr::kImmA ? "imm/" : "r", r.a, r.mode & RegInstr::kImmB ? "imm/" : "r", r.b,
+                  static_cast<double>(r.imm));
+    s += buf;
+  }
+  return s;
+}
+
+// Bits of a result as compared: every NaN alike. Which NaN an operation on two NaNs returns
+// (x86 returns its first operand's) is not part of frep's semantics: the compiler may commute
+// the interpreter's additions and multiplications, and no operation turns a NaN's sign or
+// payload into a number.
+inline std::uint32_t compared_bits(float v) { return std::isnan(v) ? 0x7fc00000u : std::bit_cast<std::uint32_t>(v); }
+
+// Runs the case on the interpreter and on the JIT in `isa`; an empty string if every output is
+// bit-identical (NaN for NaN), else what differs.
+inline std::string check_case(const DiffCase& c, JitIsa isa) {
+  const Tape t = Tape::from_ssa(c.ssa);
+  static thread_local BatchEvaluator interp(interpreter_backend());
+  static thread_local std::unique_ptr<Backend> jit_avx2, jit_avx512;
+  auto& slot = isa == JitIsa::Avx512 ? jit_avx512 : jit_avx2;
+  if (!slot) slot = make_jit_backend({.isa = isa, .compile_after_points = 0});
+  static thread_local std::unique_ptr<BatchEvaluator> jit_ev[2];
+  auto& ev = jit_ev[isa == JitIsa::Avx512];
+  if (!ev) ev = std::make_unique<BatchEvaluator>(*slot);
+  const std::size_t n = c.xs.size();
+  std::vector<float> a(n), b(n);
+  interp.eval(t, c.xs.data(), c.ys.data(), c.zs.data(), a.data(), n);
+  ev->eval(t, c.xs.data(), c.ys.data(), c.zs.data(), b.data(), n);
+  for (std::size_t i = 0; i < n; ++i)
+    if (compared_bits(a[i]) != compared_bits(b[i])) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "point %zu (%a, %a, %a): interpreter %a (0x%08x), jit %a (0x%08x)", i,
+                    static_cast<double>(c.xs[i]), static_cast<double>(c.ys[i]), static_cast<double>(c.zs[i]),
+                    static_cast<double>(a[i]), std::bit_cast<std::uint32_t>(a[i]), static_cast<double>(b[i]),
+                    std::bit_cast<std::uint32_t>(b[i]));
+      return std::string(buf) + " on the tape" + describe(t);
+    }
+  return {};
+}
+
+}  // namespace frep::fuzz

@@ -1,0 +1,211 @@
+// The JIT backend: a batch kernel that compiles tapes worth compiling and keeps their code, and
+// the interpreter's kernels for everything else (jit.hpp says what runs where).
+#include "frep/eval/jit.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include "eval/interp_kernels.hpp"
+#include "eval/jit_codegen.hpp"
+#include "frep/error.hpp"
+#include "frep/util/large_allocator.hpp"
+
+namespace frep {
+namespace {
+
+struct Counters {
+  std::atomic<std::uint64_t> tapes_compiled{0}, instructions_compiled{0}, compile_nanoseconds{0}, compile_failures{0},
+      points_compiled{0}, points_interpreted{0};
+};
+Counters& counters() {
+  static Counters c;
+  return c;
+}
+
+bool debug_enabled() {
+  static const bool on = [] {
+    const char* e = std::getenv("FREP_JIT_DEBUG");
+    return e && *e && std::strcmp(e, "0") != 0;
+  }();
+  return on;
+}
+
+bool resolve_avx512(JitIsa isa) {
+  switch (isa) {
+    case JitIsa::Avx512: return true;
+    case JitIsa::Avx2: return false;
+    default: return jit::cpu_has_avx512();
+  }
+}
+
+class JitBatch final : public BatchKernel {
+ public:
+  JitBatch(const JitOptions& o, bool avx512) : options_(o), cache_(avx512), fallback_(interp::make_batch_kernel()) {}
+  ~JitBatch() override {
+    for (Entry& e : entries_) cache_.release(e.fn);
+  }
+
+  void eval(const Tape& tape, const float* xs, const float* ys, const float* zs, float* out, std::size_t n) override {
+    if (n == 0) return;
+    const jit::BatchFn fn = function_for(tape, n);
+    if (!fn) {
+      counters().points_interpreted.fetch_add(n, std::memory_order_relaxed);
+      return fallback_->eval(tape, xs, ys, zs, out, n);
+    }
+    counters().points_compiled.fetch_add(n, std::memory_order_relaxed);
+    const std::size_t lanes = static_cast<std::size_t>(cache_.lanes());
+    const std::size_t need = jit::CodeCache::scratch_floats(tape, cache_.lanes());
+    if (regs_.size() < need) regs_.resize(need);
+    const std::size_t full = n / lanes;
+    fn(xs, ys, zs, out, regs_.data(), full);
+    if (const std::size_t rest = n - full * lanes) {
+      // The last partial vector, padded with zeros as the interpreter pads its chunks.
+      alignas(64) float px[16] = {}, py[16] = {}, pz[16] = {}, po[16];
+      const std::size_t base = full * lanes;
+      std::memcpy(px, xs + base, rest * sizeof(float));
+      std::memcpy(py, ys + base, rest * sizeof(float));
+      std::memcpy(pz, zs + base, rest * sizeof(float));
+      fn(px, py, pz, po, regs_.data(), 1);
+      std::memcpy(out + base, po, rest * sizeof(float));
+    }
+  }
+
+ private:
+  struct Entry {
+    std::uint64_t stamp = 0;
+    std::size_t points = 0;     // asked of the tape so far
+    jit::BatchFn fn = nullptr;  // its code, once compiled
+    bool failed = false;        // compilation failed: interpret it
+    std::uint64_t used = 0;     // when last asked for (for eviction)
+  };
+
+  // The compiled code for `tape`, compiling it if it has now been asked for enough points; null
+  // where the interpreter runs it.
+  jit::BatchFn function_for(const Tape& tape, std::size_t n) {
+    const std::uint64_t stamp = tape.stamp();
+    if (stamp == 0 || tape.code().empty() || tape.code().size() > options_.max_instructions || tape.oracles()) return nullptr;
+    ++clock_;
+    Entry* e = nullptr;
+    for (Entry& c : entries_)
+      if (c.stamp == stamp) e = &c;
+    if (!e) {
+      // Tapes seen but not compiled are tracked too, in as many entries again as compiled ones.
+      const std::size_t limit = 2 * static_cast<std::size_t>(std::max(options_.max_cached_tapes, 1));
+      if (entries_.size() < limit) {
+        e = &entries_.emplace_back();
+      } else {
+        e = &*std::min_element(entries_.begin(), entries_.end(),
+                               [](const Entry& a, const Entry& b) { return a.used < b.used; });
+        cache_.release(e->fn);
+        *e = Entry();
+      }
+      e->stamp = stamp;
+    }
+    e->used = clock_;
+    if (e->fn || e->failed) return e->fn;
+    e->points += n;
+    if (e->points < options_.compile_after_points) return nullptr;
+    // Keep at most max_cached_tapes compiled: the least recently used compiled one goes.
+    std::size_t compiled = 0;
+    Entry* oldest = nullptr;
+    for (Entry& c : entries_)
+      if (c.fn) {
+        ++compiled;
+        if (!oldest || c.used < oldest->used) oldest = &c;
+      }
+    if (oldest && compiled >= static_cast<std::size_t>(std::max(options_.max_cached_tapes, 1))) {
+      cache_.release(oldest->fn);
+      oldest->fn = nullptr;
+      oldest->points = 0;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const char* why = "";
+    e->fn = cache_.compile_batch(tape, &why);
+    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
+    if (!e->fn) {
+      e->failed = true;
+      counters().compile_failures.fetch_add(1, std::memory_order_relaxed);
+      if (debug_enabled())
+        std::fprintf(stderr, "frep jit: a tape of %zu instructions runs on the interpreter: %s\n", tape.code().size(), why);
+      return nullptr;
+    }
+    counters().tapes_compiled.fetch_add(1, std::memory_order_relaxed);
+    counters().instructions_compiled.fetch_add(tape.code().size(), std::memory_order_relaxed);
+    counters().compile_nanoseconds.fetch_add(static_cast<std::uint64_t>(ns), std::memory_order_relaxed);
+    if (debug_enabled())
+      std::fprintf(stderr, "frep jit: compiled a tape of %zu instructions in %.1f us\n", tape.code().size(), ns / 1e3);
+    return e->fn;
+  }
+
+  JitOptions options_;
+  jit::CodeCache cache_;
+  std::unique_ptr<BatchKernel> fallback_;
+  std::vector<Entry> entries_;
+  std::uint64_t clock_ = 0;
+  LargeVector<float> regs_;
+};
+
+class Jit final : public Backend {
+ public:
+  explicit Jit(const JitOptions& o) : options_(o), active_(o.isa == JitIsa::Best ? jit_supported(JitIsa::Best) : true) {}
+  const char* name() const override { return "jit"; }
+  std::unique_ptr<BatchKernel> batch() const override {
+    if (!active_) return interp::make_batch_kernel();
+    return std::make_unique<JitBatch>(options_, resolve_avx512(options_.isa));
+  }
+  std::unique_ptr<GradKernel> grad() const override { return interp::make_grad_kernel(); }
+  std::unique_ptr<IntervalBatchKernel> interval_batch() const override { return interp::make_interval_batch_kernel(); }
+
+ private:
+  JitOptions options_;
+  bool active_;  // false: this CPU has no instruction set the JIT writes
+};
+
+}  // namespace
+
+bool jit_supported(JitIsa isa) {
+  switch (isa) {
+    case JitIsa::Avx512: return jit::cpu_has_avx512();
+    case JitIsa::Avx2: return jit::cpu_has_avx2();
+    default: return jit::cpu_has_avx2() || jit::cpu_has_avx512();
+  }
+}
+
+std::unique_ptr<Backend> make_jit_backend(const JitOptions& options) {
+  if (options.isa != JitIsa::Best && !jit_supported(options.isa))
+    throw InputError("FREP_BACKEND", 0,
+                     std::string("this CPU does not run the JIT's ") + (options.isa == JitIsa::Avx512 ? "AVX-512" : "AVX2") +
+                         " code");
+  return std::make_unique<Jit>(options);
+}
+
+const Backend& jit_backend() {
+  static const std::unique_ptr<Backend> b = make_jit_backend();
+  return *b;
+}
+
+JitStats jit_stats() {
+  const Counters& c = counters();
+  JitStats s;
+  s.tapes_compiled = c.tapes_compiled.load();
+  s.instructions_compiled = c.instructions_compiled.load();
+  s.compile_nanoseconds = c.compile_nanoseconds.load();
+  s.compile_failures = c.compile_failures.load();
+  s.points_compiled = c.points_compiled.load();
+  s.points_interpreted = c.points_interpreted.load();
+  return s;
+}
+
+void reset_jit_stats() {
+  Counters& c = counters();
+  for (auto* a : {&c.tapes_compiled, &c.instructions_compiled, &c.compile_nanoseconds, &c.compile_failures,
+                  &c.points_compiled, &c.points_interpreted})
+    a->store(0);
+}
+
+}  // namespace frep

@@ -1,0 +1,45 @@
+// Machine code for tapes (private to the JIT backend, src/eval/jit_backend.cpp). The only file
+// that includes asmjit is jit_codegen.cpp.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+
+#include "frep/eval/tape.hpp"
+
+namespace frep::jit {
+
+// out[v * L + i] = f(x[v * L + i], ...) for v < vectors and i < L lanes (L = 8 or 16); `regs` is
+// scratch of scratch_floats(tape) floats, 64-byte aligned.
+using BatchFn = void (*)(const float* x, const float* y, const float* z, float* out, float* regs, std::size_t vectors);
+
+// Owns generated code (one per evaluator: not shared between threads).
+class CodeCache {
+ public:
+  explicit CodeCache(bool avx512);
+  ~CodeCache();
+  CodeCache(const CodeCache&) = delete;
+  CodeCache& operator=(const CodeCache&) = delete;
+
+  int lanes() const { return avx512_ ? 16 : 8; }
+  // Compiles the tape's register code; null if it cannot (an opcode it does not know, an
+  // assembler error), with the reason in `why`.
+  BatchFn compile_batch(const Tape& tape, const char** why);
+  // Gives back the memory of a function compile_batch returned.
+  void release(BatchFn fn);
+  // Floats of scratch a compiled tape needs.
+  static std::size_t scratch_floats(const Tape& tape, int lanes) {
+    return (static_cast<std::size_t>(tape.num_registers()) + 2) * static_cast<std::size_t>(lanes);
+  }
+
+ private:
+  struct Runtime;
+  bool avx512_;
+  std::unique_ptr<Runtime> rt_;
+};
+
+// True if the CPU runs AVX2 (with FMA-free AVX2 code only) or AVX-512F code.
+bool cpu_has_avx2();
+bool cpu_has_avx512();
+
+}  // namespace frep::jit
