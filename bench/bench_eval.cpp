@@ -10,6 +10,7 @@
 #include <set>
 
 #include "frep/eval/evaluators.hpp"
+#include "frep/eval/jit.hpp"
 #include "frep/io/vm.hpp"
 #include "frep/render/render2d.hpp"
 
@@ -103,6 +104,53 @@ void BM_BatchEval(benchmark::State& state, const char* name) {
 }
 BENCHMARK_CAPTURE(BM_BatchEval, prospero, "prospero.vm");
 BENCHMARK_CAPTURE(BM_BatchEval, bear, "bear.vm");
+
+// The batch evaluator on a named backend ("interp", or "jit" with its code compiled before the
+// timing starts), over state.range(0) points a call: the JIT's gain per point, which with its
+// compile time (BM_JitCompile) gives the number of points a tape must be asked for to pay back
+// its compilation (bench/jit.sh).
+void BM_BatchOn(benchmark::State& state, const char* name, const char* backend_name) {
+  const frep::Tape* tape = load_tape(name);
+  if (!tape) return state.SkipWithError("shared data not found");
+  const bool jit = std::string(backend_name) == "jit";
+  if (jit && !frep::jit_supported()) return state.SkipWithError("this CPU runs no JIT code");
+  const auto backend = frep::make_jit_backend({.compile_after_points = 0});
+  frep::BatchEvaluator ev(jit ? *backend : frep::interpreter_backend());
+  PointSet p = random_points(static_cast<std::size_t>(state.range(0)), true);
+  ev.eval(*tape, p.x.data(), p.y.data(), p.z.data(), p.out.data(), p.x.size());  // compiles
+  for (auto _ : state) {
+    ev.eval(*tape, p.x.data(), p.y.data(), p.z.data(), p.out.data(), p.x.size());
+    benchmark::DoNotOptimize(p.out.data());
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * p.x.size()));
+  state.counters["instructions"] = static_cast<double>(tape->code().size());
+}
+BENCHMARK_CAPTURE(BM_BatchOn, prospero_interp, "prospero.vm", "interp")->Arg(256)->Arg(4096);
+BENCHMARK_CAPTURE(BM_BatchOn, prospero_jit, "prospero.vm", "jit")->Arg(256)->Arg(4096);
+BENCHMARK_CAPTURE(BM_BatchOn, bear_interp, "bear.vm", "interp")->Arg(256)->Arg(4096);
+BENCHMARK_CAPTURE(BM_BatchOn, bear_jit, "bear.vm", "jit")->Arg(256)->Arg(4096);
+
+// Compiling a whole tape: a fresh evaluator (empty code cache) each time, asked for one point.
+void BM_JitCompile(benchmark::State& state, const char* name) {
+  const frep::Tape* tape = load_tape(name);
+  if (!tape) return state.SkipWithError("shared data not found");
+  if (!frep::jit_supported()) return state.SkipWithError("this CPU runs no JIT code");
+  const auto backend = frep::make_jit_backend({.compile_after_points = 0});
+  float p = 0.5f, out = 0;
+  const frep::JitStats s0 = frep::jit_stats();
+  for (auto _ : state) {
+    frep::BatchEvaluator ev(*backend);
+    ev.eval(*tape, &p, &p, &p, &out, 1);
+    benchmark::DoNotOptimize(out);
+  }
+  const frep::JitStats s1 = frep::jit_stats();
+  const double instructions = static_cast<double>(s1.instructions_compiled - s0.instructions_compiled);
+  state.counters["instructions"] = static_cast<double>(tape->code().size());
+  state.counters["compile_us_per_1000"] =
+      instructions > 0 ? static_cast<double>(s1.compile_nanoseconds - s0.compile_nanoseconds) / 1e3 / (instructions / 1000) : 0;
+}
+BENCHMARK_CAPTURE(BM_JitCompile, prospero, "prospero.vm")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_JitCompile, bear, "bear.vm")->Unit(benchmark::kMicrosecond);
 
 void BM_PointEval(benchmark::State& state, const char* name) {
   const frep::Tape* tape = load_tape(name);

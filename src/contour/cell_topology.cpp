@@ -62,7 +62,7 @@ CellTopology build(std::uint8_t config, std::uint8_t decisions) {
   const std::uint8_t amb = ambiguous_faces(config);
   for (int f = 0; f < kCellFaces; ++f) {
     const int a = f / 2, side = f % 2;
-    const auto [p, q] = other_axes(a);
+    const int p = other_axes(a)[0], q = other_axes(a)[1];  // (not a structured binding: lambdas capture them)
     // The face's corners (u along p, v along q) and its edges.
     auto corner = [&](int u, int v) { return (side << a) | (u << p) | (v << q); };
     auto inside = [&](int c) { return (config >> c) & 1; };

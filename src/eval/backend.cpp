@@ -1,5 +1,5 @@
-// The backend registry: the interpreter, and the choice of the default (library option, else
-// FREP_BACKEND).
+// The backend registry: the interpreter and the JIT, and the choice of the default (library
+// option, else FREP_BACKEND, else the JIT).
 #include "frep/eval/backend.hpp"
 
 #include <atomic>
@@ -45,7 +45,7 @@ const Backend& default_backend() {
   // The environment's choice, looked up once.
   static const Backend* from_env = [] {
     const char* e = std::getenv("FREP_BACKEND");
-    return e && *e ? &backend_by_name(e) : &interpreter_backend();
+    return e && *e ? &backend_by_name(e) : &jit_backend();
   }();
   return *from_env;
 }

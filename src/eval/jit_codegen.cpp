@@ -460,10 +460,11 @@ struct CodeCache::Runtime {
   JitRuntime rt;
 };
 
-CodeCache::CodeCache(bool avx512) : avx512_(avx512), rt_(std::make_unique<Runtime>()) {}
+CodeCache::CodeCache(bool avx512) : avx512_(avx512) {}
 CodeCache::~CodeCache() = default;
 
 BatchFn CodeCache::compile_batch(const Tape& tape, const char** why) {
+  if (!rt_) rt_ = std::make_unique<Runtime>();  // evaluators that never compile never map code memory
   CodeHolder code;
   code.init(rt_->rt.environment());
   ErrorCatcher errors;
@@ -484,7 +485,7 @@ BatchFn CodeCache::compile_batch(const Tape& tape, const char** why) {
 }
 
 void CodeCache::release(BatchFn fn) {
-  if (fn) rt_->rt.release(fn);
+  if (fn && rt_) rt_->rt.release(fn);
 }
 
 bool cpu_has_avx2() {

@@ -8,15 +8,16 @@
 #include "frep/error.hpp"
 #include "frep/eval/backend.hpp"
 #include "frep/eval/evaluators.hpp"
+#include "frep/eval/jit.hpp"
 #include "frep/expr/expr.hpp"
 
 namespace frep {
 namespace {
 
-TEST(Backend, TheInterpreterIsTheDefaultAndUnknownNamesAreErrors) {
+TEST(Backend, TheJitIsTheDefaultAndUnknownNamesAreErrors) {
   EXPECT_STREQ(interpreter_backend().name(), "interp");
   EXPECT_EQ(&backend_by_name("interp"), &interpreter_backend());
-  EXPECT_EQ(&default_backend(), &interpreter_backend());  // the tests run without FREP_BACKEND
+  EXPECT_EQ(&default_backend(), &jit_backend());  // the tests run without FREP_BACKEND
   try {
     backend_by_name("warp-drive");
     ADD_FAILURE() << "an unknown backend was found";
@@ -85,7 +86,7 @@ TEST(Backend, APluggedBackendRunsEveryCallersWork) {
   set_default_backend(&counting);
   const TriMesh plugged = mesh_expression(t, mo);
   set_default_backend(nullptr);
-  EXPECT_EQ(&default_backend(), &interpreter_backend());
+  EXPECT_EQ(&default_backend(), &jit_backend());
   EXPECT_GT(counting.batch_calls.load(), 0);
   EXPECT_GT(counting.grad_calls.load(), 0);
   EXPECT_GT(counting.interval_calls.load(), 0);

@@ -6,7 +6,9 @@
 // are called out to by every backend through the same Oracle interface.
 //
 // Which backend: the library option (set_default_backend), else the environment variable
-// FREP_BACKEND (`interp`, the interpreter, is the only one this build has and the default).
+// FREP_BACKEND: `jit` (the default: tapes compiled to machine code where that pays, jit.hpp; the
+// interpreter runs the rest, and everything on CPUs without AVX2) or `interp` (the interpreter
+// only).
 #pragma once
 
 #include <cstddef>
@@ -71,7 +73,7 @@ class Backend {
 const Backend& interpreter_backend();
 
 // The backend evaluators use when made without one: set_default_backend's, else FREP_BACKEND's
-// (read once; an unknown name is an InputError listing the available ones), else the interpreter.
+// (read once; an unknown name is an InputError listing the available ones), else the JIT.
 const Backend& default_backend();
 // Chooses the default backend for evaluators made from now on (null: back to FREP_BACKEND's).
 void set_default_backend(const Backend* backend);

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# The JIT backend against the interpreter, same run: Prospero at 1024x1024 (warm re-render, 1 and
+# 2 threads, each image checked against brute force by bench_eval), brute force (every pixel on
+# the whole tape), batch throughput on Prospero and bear.vm, compile time per 1,000
+# instructions, and the break-even: how many points a tape must be asked for before its
+# compilation has paid for itself (compile time over the time saved per point).
+#   bash bench/jit.sh
+source "$(dirname "$0")/common.sh"
+require_input ../shared/data/vm/prospero.vm
+build_targets bench_eval
+run() {  # backend, filter
+  FREP_BACKEND=$1 ./build/bench/bench_eval --benchmark_filter="$2" --benchmark_min_time=1 --benchmark_repetitions=3 \
+    --benchmark_report_aggregates_only=true 2>&1
+}
+interp=$(run interp 'ProsperoRender|ProsperoBruteForce')
+jit=$(run jit 'ProsperoRender|ProsperoBruteForce')
+parts=$(run interp 'BatchOn|JitCompile')
+echo "$interp" | grep -E '^(check|BM_)'
+echo "$jit" | grep -E '^(check|BM_)'
+echo "$parts" | grep -E '^BM_'
+median() { echo "$1" | awk -v n="$2" '$1 == n"_median" {print $2}'; }
+counter() { echo "$1" | awk -v n="$2" -v c="$3" '$1 == n"_median" {for (i = 1; i <= NF; ++i) if (index($i, c"=") == 1) {split($i, kv, "="); v = kv[2]; m = 1; if (v ~ /k$/) {m = 1000; sub(/k$/, "", v)} print v * m}}'; }
+echo
+echo "Same run, median of 3 (ms; FREP_BACKEND=interp vs jit):"
+for what in "ProsperoRender/1024/1/real_time" "ProsperoRender/1024/2/real_time" "ProsperoBruteForce/1024/real_time"; do
+  i=$(median "$interp" "BM_$what"); j=$(median "$jit" "BM_$what")
+  awk -v w="$what" -v i="$i" -v j="$j" 'BEGIN { printf "  %-36s interp %8.2f   jit %8.2f   jit speed-up %.2fx\n", w, i, j, i / j }'
+done
+awk -v a="$(median "$interp" BM_ProsperoRender/1024/1/real_time)" -v b="$(median "$interp" BM_ProsperoRender/1024/2/real_time)" \
+    -v c="$(median "$jit" BM_ProsperoRender/1024/1/real_time)" -v d="$(median "$jit" BM_ProsperoRender/1024/2/real_time)" \
+    'BEGIN { printf "  two threads over one: interp %.2fx, jit %.2fx\n", a / b, c / d }'
+echo
+echo "Batch evaluator, whole tapes (ns per point; break-even = compile time / time saved per point):"
+for m in prospero bear; do
+  for n in 256 4096; do
+    i=$(median "$parts" "BM_BatchOn/${m}_interp/$n"); j=$(median "$parts" "BM_BatchOn/${m}_jit/$n")
+    awk -v m="$m" -v n="$n" -v i="$i" -v j="$j" 'BEGIN { printf "  %-9s %5d points a call: interp %7.1f   jit %7.1f   %.2fx\n", m, n, i / n, j / n, i / j }'
+  done
+  c=$(median "$parts" "BM_JitCompile/$m")
+  per=$(counter "$parts" "BM_JitCompile/$m" compile_us_per_1000)
+  ins=$(counter "$parts" "BM_JitCompile/$m" instructions)
+  i=$(median "$parts" "BM_BatchOn/${m}_interp/4096"); j=$(median "$parts" "BM_BatchOn/${m}_jit/4096")
+  awk -v m="$m" -v c="$c" -v per="$per" -v ins="$ins" -v i="$i" -v j="$j" 'BEGIN {
+    saved = (i - j) / 4096; printf "  %-9s %d instructions: compile %.0f us (%.0f us per 1,000), break-even %.0f points\n", m, ins, c, per, c * 1000 / saved }'
+done
