@@ -34,6 +34,7 @@
 #include "frep/eval/backend.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/eval/interval_batch.hpp"
+#include "frep/eval/jit.hpp"
 #include "frep/eval/point_cloud.hpp"
 #include "frep/eval/subdivision.hpp"
 
