@@ -130,6 +130,28 @@ BENCHMARK_CAPTURE(BM_BatchOn, prospero_jit, "prospero.vm", "jit")->Arg(256)->Arg
 BENCHMARK_CAPTURE(BM_BatchOn, bear_interp, "bear.vm", "interp")->Arg(256)->Arg(4096);
 BENCHMARK_CAPTURE(BM_BatchOn, bear_jit, "bear.vm", "jit")->Arg(256)->Arg(4096);
 
+// The same for the gradient evaluator (values and three partial derivatives).
+void BM_GradOn(benchmark::State& state, const char* name, const char* backend_name) {
+  const frep::Tape* tape = load_tape(name);
+  if (!tape) return state.SkipWithError("shared data not found");
+  const bool jit = std::string(backend_name) == "jit";
+  if (jit && !frep::jit_supported()) return state.SkipWithError("this CPU runs no JIT code");
+  const auto backend = frep::make_jit_backend({.compile_after_points = 0});
+  frep::GradEvaluator ev(jit ? *backend : frep::interpreter_backend());
+  PointSet p = random_points(static_cast<std::size_t>(state.range(0)), true);
+  std::vector<frep::Grad> out(p.x.size());
+  ev.eval(*tape, p.x.data(), p.y.data(), p.z.data(), out.data(), p.x.size());  // compiles
+  for (auto _ : state) {
+    ev.eval(*tape, p.x.data(), p.y.data(), p.z.data(), out.data(), p.x.size());
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * p.x.size()));
+}
+BENCHMARK_CAPTURE(BM_GradOn, prospero_interp, "prospero.vm", "interp")->Arg(4096);
+BENCHMARK_CAPTURE(BM_GradOn, prospero_jit, "prospero.vm", "jit")->Arg(4096);
+BENCHMARK_CAPTURE(BM_GradOn, bear_interp, "bear.vm", "interp")->Arg(4096);
+BENCHMARK_CAPTURE(BM_GradOn, bear_jit, "bear.vm", "jit")->Arg(4096);
+
 // Compiling a whole tape: a fresh evaluator (empty code cache) each time, asked for one point.
 void BM_JitCompile(benchmark::State& state, const char* name) {
   const frep::Tape* tape = load_tape(name);

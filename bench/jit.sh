@@ -14,7 +14,7 @@ run() {  # backend, filter
 }
 interp=$(run interp 'ProsperoRender|ProsperoBruteForce')
 jit=$(run jit 'ProsperoRender|ProsperoBruteForce')
-parts=$(run interp 'BatchOn|JitCompile')
+parts=$(run interp 'BatchOn|GradOn|JitCompile')
 echo "$interp" | grep -E '^(check|BM_)'
 echo "$jit" | grep -E '^(check|BM_)'
 echo "$parts" | grep -E '^BM_'
@@ -36,6 +36,8 @@ for m in prospero bear; do
     i=$(median "$parts" "BM_BatchOn/${m}_interp/$n"); j=$(median "$parts" "BM_BatchOn/${m}_jit/$n")
     awk -v m="$m" -v n="$n" -v i="$i" -v j="$j" 'BEGIN { printf "  %-9s %5d points a call: interp %7.1f   jit %7.1f   %.2fx\n", m, n, i / n, j / n, i / j }'
   done
+  i=$(median "$parts" "BM_GradOn/${m}_interp/4096"); j=$(median "$parts" "BM_GradOn/${m}_jit/4096")
+  awk -v m="$m" -v i="$i" -v j="$j" 'BEGIN { printf "  %-9s gradients, 4096 points: interp %7.1f   jit %7.1f   %.2fx\n", m, i / 4096, j / 4096, i / j }'
   c=$(median "$parts" "BM_JitCompile/$m")
   per=$(counter "$parts" "BM_JitCompile/$m" compile_us_per_1000)
   ins=$(counter "$parts" "BM_JitCompile/$m" instructions)

@@ -108,8 +108,8 @@ inline std::string describe(const Tape& t) {
 // payload into a number.
 inline std::uint32_t compared_bits(float v) { return std::isnan(v) ? 0x7fc00000u : std::bit_cast<std::uint32_t>(v); }
 
-// Runs the case on the interpreter and on the JIT in `isa`; an empty string if every output is
-// bit-identical (NaN for NaN), else what differs.
+// Runs the case on the interpreter and on the JIT in `isa`, values (batch evaluator) and
+// gradients; an empty string if every output is bit-identical (NaN for NaN), else what differs.
 inline std::string check_case(const DiffCase& c, JitIsa isa) {
   const Tape t = Tape::from_ssa(c.ssa);
   static thread_local BatchEvaluator interp(interpreter_backend());
@@ -119,10 +119,29 @@ inline std::string check_case(const DiffCase& c, JitIsa isa) {
   static thread_local std::unique_ptr<BatchEvaluator> jit_ev[2];
   auto& ev = jit_ev[isa == JitIsa::Avx512];
   if (!ev) ev = std::make_unique<BatchEvaluator>(*slot);
+  static thread_local GradEvaluator interp_grad(interpreter_backend());
+  static thread_local std::unique_ptr<GradEvaluator> jit_grad[2];
+  auto& gev = jit_grad[isa == JitIsa::Avx512];
+  if (!gev) gev = std::make_unique<GradEvaluator>(*slot);
   const std::size_t n = c.xs.size();
   std::vector<float> a(n), b(n);
   interp.eval(t, c.xs.data(), c.ys.data(), c.zs.data(), a.data(), n);
   ev->eval(t, c.xs.data(), c.ys.data(), c.zs.data(), b.data(), n);
+  std::vector<Grad> ga(n), gb(n);
+  interp_grad.eval(t, c.xs.data(), c.ys.data(), c.zs.data(), ga.data(), n);
+  gev->eval(t, c.xs.data(), c.ys.data(), c.zs.data(), gb.data(), n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float pa[4] = {ga[i].v, ga[i].dx, ga[i].dy, ga[i].dz}, pb[4] = {gb[i].v, gb[i].dx, gb[i].dy, gb[i].dz};
+    for (int k = 0; k < 4; ++k)
+      if (compared_bits(pa[k]) != compared_bits(pb[k])) {
+        char buf[220];
+        std::snprintf(buf, sizeof buf, "gradient channel %d at point %zu (%a, %a, %a): interpreter %a (0x%08x), jit %a (0x%08x)",
+                      k, i, static_cast<double>(c.xs[i]), static_cast<double>(c.ys[i]), static_cast<double>(c.zs[i]),
+                      static_cast<double>(pa[k]), std::bit_cast<std::uint32_t>(pa[k]), static_cast<double>(pb[k]),
+                      std::bit_cast<std::uint32_t>(pb[k]));
+        return std::string(buf) + " on the tape" + describe(t);
+      }
+  }
   for (std::size_t i = 0; i < n; ++i)
     if (compared_bits(a[i]) != compared_bits(b[i])) {
       char buf[200];

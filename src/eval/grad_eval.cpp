@@ -19,67 +19,7 @@
 #include "frep/expr/oracle.hpp"
 #include "frep/expr/semantics.hpp"
 
-#ifndef FREP_GRAD_PARTIALS_ONCE
-#define FREP_GRAD_PARTIALS_ONCE
-namespace frep {
-namespace grad_detail {
-
-// Derivative of op at (a, b) given value v: returns (dv/da, dv/db).
-inline void partials(Op op, float a, float b, float v, float& pa, float& pb) {
-  pa = 0;
-  pb = 0;
-  switch (op) {
-    case Op::Neg: pa = -1; break;
-    case Op::Abs: pa = a < 0 ? -1.0f : 1.0f; break;
-    case Op::Recip: pa = -1.0f / (a * a); break;
-    case Op::Sqrt: pa = v == 0 ? 0.0f : 0.5f / v; break;
-    case Op::Square: pa = 2 * a; break;
-    case Op::Sin: pa = std::cos(a); break;
-    case Op::Cos: pa = -std::sin(a); break;
-    case Op::Tan: pa = 1 + v * v; break;
-    case Op::Asin: pa = 1.0f / std::sqrt(1 - a * a); break;
-    case Op::Acos: pa = -1.0f / std::sqrt(1 - a * a); break;
-    case Op::Atan: pa = 1.0f / (1 + a * a); break;
-    case Op::Exp: pa = v; break;
-    case Op::Ln: pa = 1.0f / a; break;
-    case Op::Add: pa = 1; pb = 1; break;
-    case Op::Sub: pa = 1; pb = -1; break;
-    case Op::Mul: pa = b; pb = a; break;
-    case Op::Div: pa = 1.0f / b; pb = -a / (b * b); break;
-    case Op::Atan2: {
-      const float d = a * a + b * b;  // atan2(y = a, x = b)
-      pa = b / d;
-      pb = -a / d;
-      break;
-    }
-    case Op::Min:
-      if (std::isnan(v)) pa = pb = v;
-      else if (a < b) pa = 1;
-      else pb = 1;
-      break;
-    case Op::Max:
-      if (std::isnan(v)) pa = pb = v;
-      else if (a > b) pa = 1;
-      else pb = 1;
-      break;
-    case Op::Mod:
-      pa = 1;
-      pb = -std::floor(a / std::fabs(b)) * (b < 0 ? -1.0f : 1.0f);
-      break;
-    case Op::And:
-      if (a == 0) pa = 1; else pb = 1;
-      break;
-    case Op::Or:
-      if (a != 0) pa = 1; else pb = 1;
-      break;
-    default:  // floor, ceil, round, compare, not: piecewise constant
-      break;
-  }
-}
-
-}  // namespace grad_detail
-}  // namespace frep
-#endif
+#include "eval/grad_partials.hpp"
 
 
 HWY_BEFORE_NAMESPACE();
@@ -194,7 +134,7 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace frep {
 HWY_EXPORT(GradOp);
-using grad_detail::partials;
+using grad_detail::grad_lane;
 
 namespace interp {
 namespace {
@@ -260,18 +200,10 @@ void GradKernelImpl::eval(const Tape& tape, const float* xs, const float* ys, co
           for (std::size_t i = 0; i < m; ++i) {
             const float a = ia ? ins.imm : A[i];
             const float b = !binary ? 0.0f : (ib ? ins.imm : B[i]);
-            const float v = op_eval<float>(ins.op, a, b);
-            float pa, pb;
-            partials(ins.op, a, b, v, pa, pb);
-            float d[3];
-            for (int k = 0; k < 3; ++k) {
-              const std::size_t off = (k + 1) * kChunk + i;
-              // A zero partial must not turn an infinite or NaN argument gradient into NaN.
-              float t = 0;
-              if (pa != 0 && !ia) t += pa * A[off];
-              if (pb != 0 && binary && !ib) t += pb * B[off];
-              d[k] = t;
-            }
+            const float da[3] = {A[kChunk + i], A[2 * kChunk + i], A[3 * kChunk + i]};
+            const float db[3] = {B[kChunk + i], B[2 * kChunk + i], B[3 * kChunk + i]};
+            float v, d[3];
+            grad_lane(ins.op, a, da, !ia, b, db, binary && !ib, v, d);
             o[i] = v;
             o[kChunk + i] = d[0];
             o[2 * kChunk + i] = d[1];

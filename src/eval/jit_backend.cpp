@@ -43,50 +43,22 @@ bool resolve_avx512(JitIsa isa) {
   }
 }
 
-class JitBatch final : public BatchKernel {
+// One evaluator's compiled tapes: the points asked of each recent tape (by stamp), and the code
+// of those asked for enough.
+class TapeCode {
  public:
-  JitBatch(const JitOptions& o, bool avx512) : options_(o), cache_(avx512), fallback_(interp::make_batch_kernel()) {}
-  ~JitBatch() override {
+  TapeCode(const JitOptions& o, bool avx512, int channels) : options_(o), cache_(avx512), channels_(channels) {}
+  ~TapeCode() {
     for (Entry& e : entries_) cache_.release(e.fn);
   }
+  TapeCode(const TapeCode&) = delete;
+  TapeCode& operator=(const TapeCode&) = delete;
 
-  void eval(const Tape& tape, const float* xs, const float* ys, const float* zs, float* out, std::size_t n) override {
-    if (n == 0) return;
-    const jit::BatchFn fn = function_for(tape, n);
-    if (!fn) {
-      counters().points_interpreted.fetch_add(n, std::memory_order_relaxed);
-      return fallback_->eval(tape, xs, ys, zs, out, n);
-    }
-    counters().points_compiled.fetch_add(n, std::memory_order_relaxed);
-    const std::size_t lanes = static_cast<std::size_t>(cache_.lanes());
-    const std::size_t need = jit::CodeCache::scratch_floats(tape, cache_.lanes());
-    if (regs_.size() < need) regs_.resize(need);
-    const std::size_t full = n / lanes;
-    fn(xs, ys, zs, out, regs_.data(), full);
-    if (const std::size_t rest = n - full * lanes) {
-      // The last partial vector, padded with zeros as the interpreter pads its chunks.
-      alignas(64) float px[16] = {}, py[16] = {}, pz[16] = {}, po[16];
-      const std::size_t base = full * lanes;
-      std::memcpy(px, xs + base, rest * sizeof(float));
-      std::memcpy(py, ys + base, rest * sizeof(float));
-      std::memcpy(pz, zs + base, rest * sizeof(float));
-      fn(px, py, pz, po, regs_.data(), 1);
-      std::memcpy(out + base, po, rest * sizeof(float));
-    }
-  }
-
- private:
-  struct Entry {
-    std::uint64_t stamp = 0;
-    std::size_t points = 0;     // asked of the tape so far
-    jit::BatchFn fn = nullptr;  // its code, once compiled
-    bool failed = false;        // compilation failed: interpret it
-    std::uint64_t used = 0;     // when last asked for (for eviction)
-  };
+  int lanes() const { return cache_.lanes(); }
 
   // The compiled code for `tape`, compiling it if it has now been asked for enough points; null
   // where the interpreter runs it.
-  jit::BatchFn function_for(const Tape& tape, std::size_t n) {
+  jit::CompiledFn function_for(const Tape& tape, std::size_t n) {
     const std::uint64_t stamp = tape.stamp();
     if (stamp == 0 || tape.code().empty() || tape.code().size() > options_.max_instructions || tape.oracles()) return nullptr;
     ++clock_;
@@ -125,29 +97,129 @@ class JitBatch final : public BatchKernel {
     }
     const auto t0 = std::chrono::steady_clock::now();
     const char* why = "";
-    e->fn = cache_.compile_batch(tape, &why);
+    e->fn = cache_.compile(tape, channels_, &why);
     const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
+    const char* what = channels_ == 1 ? "values" : "gradients";
     if (!e->fn) {
       e->failed = true;
       counters().compile_failures.fetch_add(1, std::memory_order_relaxed);
       if (debug_enabled())
-        std::fprintf(stderr, "frep jit: a tape of %zu instructions runs on the interpreter: %s\n", tape.code().size(), why);
+        std::fprintf(stderr, "frep jit: a tape of %zu instructions (%s) runs on the interpreter: %s\n", tape.code().size(),
+                     what, why);
       return nullptr;
     }
     counters().tapes_compiled.fetch_add(1, std::memory_order_relaxed);
     counters().instructions_compiled.fetch_add(tape.code().size(), std::memory_order_relaxed);
     counters().compile_nanoseconds.fetch_add(static_cast<std::uint64_t>(ns), std::memory_order_relaxed);
     if (debug_enabled())
-      std::fprintf(stderr, "frep jit: compiled a tape of %zu instructions in %.1f us\n", tape.code().size(), ns / 1e3);
+      std::fprintf(stderr, "frep jit: compiled a tape of %zu instructions (%s) in %.1f us\n", tape.code().size(), what,
+                   static_cast<double>(ns) / 1e3);
     return e->fn;
   }
 
+ private:
+  struct Entry {
+    std::uint64_t stamp = 0;
+    std::size_t points = 0;          // asked of the tape so far
+    jit::CompiledFn fn = nullptr;    // its code, once compiled
+    bool failed = false;             // compilation failed: interpret it
+    std::uint64_t used = 0;          // when last asked for (for eviction)
+  };
+
   JitOptions options_;
   jit::CodeCache cache_;
-  std::unique_ptr<BatchKernel> fallback_;
+  int channels_;
   std::vector<Entry> entries_;
   std::uint64_t clock_ = 0;
-  LargeVector<float> regs_;
+};
+
+// Runs fn over n points: whole vectors in place, the last partial one through padded copies
+// (zeros, as the interpreter pads). `out` receives channels * L floats per vector; `emit(base,
+// block, count)` stores `count` points of a block.
+template <class Emit>
+void run_vectors(jit::CompiledFn fn, int lanes, int channels, const float* xs, const float* ys, const float* zs,
+                 float* regs, LargeVector<float>& block, std::size_t n, Emit&& emit) {
+  const std::size_t L = static_cast<std::size_t>(lanes), C = static_cast<std::size_t>(channels);
+  // In pieces, so that the output block stays in cache.
+  constexpr std::size_t kPiece = 64;  // vectors
+  if (block.size() < kPiece * L * C) block.resize(kPiece * L * C);
+  const std::size_t full = n / L;
+  for (std::size_t v = 0; v < full; v += kPiece) {
+    const std::size_t count = std::min(kPiece, full - v);
+    fn(xs + v * L, ys + v * L, zs + v * L, block.data(), regs, count);
+    emit(v * L, block.data(), count * L);
+  }
+  if (const std::size_t rest = n - full * L) {
+    alignas(64) float px[16] = {}, py[16] = {}, pz[16] = {};
+    const std::size_t base = full * L;
+    std::memcpy(px, xs + base, rest * sizeof(float));
+    std::memcpy(py, ys + base, rest * sizeof(float));
+    std::memcpy(pz, zs + base, rest * sizeof(float));
+    fn(px, py, pz, block.data(), regs, 1);
+    emit(base, block.data(), rest);
+  }
+}
+
+class JitBatch final : public BatchKernel {
+ public:
+  JitBatch(const JitOptions& o, bool avx512) : code_(o, avx512, 1), fallback_(interp::make_batch_kernel()) {}
+
+  void eval(const Tape& tape, const float* xs, const float* ys, const float* zs, float* out, std::size_t n) override {
+    if (n == 0) return;
+    const jit::CompiledFn fn = code_.function_for(tape, n);
+    if (!fn) {
+      counters().points_interpreted.fetch_add(n, std::memory_order_relaxed);
+      return fallback_->eval(tape, xs, ys, zs, out, n);
+    }
+    counters().points_compiled.fetch_add(n, std::memory_order_relaxed);
+    const std::size_t lanes = static_cast<std::size_t>(code_.lanes());
+    const std::size_t need = jit::CodeCache::scratch_floats(tape, code_.lanes(), 1);
+    if (regs_.size() < need) regs_.resize(need);
+    // Whole vectors straight into `out`; the last partial one through padded copies (zeros, as
+    // the interpreter pads its chunks).
+    const std::size_t full = n / lanes;
+    fn(xs, ys, zs, out, regs_.data(), full);
+    if (full * lanes < n)
+      run_vectors(fn, code_.lanes(), 1, xs + full * lanes, ys + full * lanes, zs + full * lanes, regs_.data(), block_,
+                  n - full * lanes, [&](std::size_t, const float* b, std::size_t count) {
+                    std::memcpy(out + full * lanes, b, count * sizeof(float));
+                  });
+  }
+
+ private:
+  TapeCode code_;
+  std::unique_ptr<BatchKernel> fallback_;
+  LargeVector<float> regs_, block_;
+};
+
+class JitGrad final : public GradKernel {
+ public:
+  JitGrad(const JitOptions& o, bool avx512) : code_(o, avx512, 4), fallback_(interp::make_grad_kernel()) {}
+
+  void eval(const Tape& tape, const float* xs, const float* ys, const float* zs, Grad* out, std::size_t n) override {
+    if (n == 0) return;
+    const jit::CompiledFn fn = code_.function_for(tape, n);
+    if (!fn) {
+      counters().points_interpreted.fetch_add(n, std::memory_order_relaxed);
+      return fallback_->eval(tape, xs, ys, zs, out, n);
+    }
+    counters().points_compiled.fetch_add(n, std::memory_order_relaxed);
+    const std::size_t need = jit::CodeCache::scratch_floats(tape, code_.lanes(), 4);
+    if (regs_.size() < need) regs_.resize(need);
+    const std::size_t L = static_cast<std::size_t>(code_.lanes());
+    run_vectors(fn, code_.lanes(), 4, xs, ys, zs, regs_.data(), block_, n,
+                [&](std::size_t base, const float* b, std::size_t count) {
+                  for (std::size_t p = 0; p < count; ++p) {
+                    const float* v = b + (p / L) * 4 * L + p % L;
+                    out[base + p] = {v[0], v[L], v[2 * L], v[3 * L]};
+                  }
+                });
+  }
+
+ private:
+  TapeCode code_;
+  std::unique_ptr<GradKernel> fallback_;
+  LargeVector<float> regs_, block_;
 };
 
 class Jit final : public Backend {
@@ -158,7 +230,10 @@ class Jit final : public Backend {
     if (!active_) return interp::make_batch_kernel();
     return std::make_unique<JitBatch>(options_, resolve_avx512(options_.isa));
   }
-  std::unique_ptr<GradKernel> grad() const override { return interp::make_grad_kernel(); }
+  std::unique_ptr<GradKernel> grad() const override {
+    if (!active_) return interp::make_grad_kernel();
+    return std::make_unique<JitGrad>(options_, resolve_avx512(options_.isa));
+  }
   std::unique_ptr<IntervalBatchKernel> interval_batch() const override { return interp::make_interval_batch_kernel(); }
 
  private:

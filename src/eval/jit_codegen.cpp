@@ -17,6 +17,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "eval/grad_partials.hpp"
 #include "frep/expr/semantics.hpp"
 
 namespace frep::jit {
@@ -27,6 +28,23 @@ using namespace asmjit;
 // Ops the generated code calls out for, one vector at a time: o[i] = op(a[i], b[i]).
 void scalar_op(float* o, const float* a, const float* b, int op, int lanes) {
   for (int i = 0; i < lanes; ++i) o[i] = op_eval<float>(static_cast<Op>(op), a[i], b[i]);
+}
+
+// The gradient evaluator's scalar path for one vector (grad_partials.hpp): o, A, B are blocks of
+// four channels (value, d/dx, d/dy, d/dz; `lanes` floats each); flags: 1 = a is the immediate,
+// 2 = b is, 4 = binary.
+void grad_scalar(float* o, const float* A, const float* B, int op, int flags, int lanes, float imm) {
+  const bool ia = flags & 1, ib = flags & 2, binary = flags & 4;
+  for (int i = 0; i < lanes; ++i) {
+    const float a = ia ? imm : A[i];
+    const float b = !binary ? 0.0f : (ib ? imm : B[i]);
+    const float da[3] = {A[lanes + i], A[2 * lanes + i], A[3 * lanes + i]};
+    const float db[3] = {B[lanes + i], B[2 * lanes + i], B[3 * lanes + i]};
+    float v, d[3];
+    grad_detail::grad_lane(static_cast<Op>(op), a, da, !ia, b, db, binary && !ib, v, d);
+    o[i] = v;
+    for (int k = 0; k < 3; ++k) o[(k + 1) * lanes + i] = d[k];
+  }
 }
 
 // Comparison predicates, as Highway uses them.
@@ -46,11 +64,14 @@ class ErrorCatcher final : public ErrorHandler {
 
 class Emitter {
  public:
-  Emitter(x86::Assembler& a, bool avx512, std::uint32_t num_regs)
+  // channels: 1 for values, 4 for values and gradients (v, dx, dy, dz of a tape register are
+  // four vectors, side by side in the scratch array).
+  Emitter(x86::Assembler& a, bool avx512, std::uint32_t num_regs, int channels)
       : a_(a), avx512_(avx512), vb_(avx512 ? 64 : 32), lanes_(avx512 ? 16 : 8), num_regs_(num_regs),
-        slots_(avx512 ? 28 : 12) {
+        channels_(channels), temps_(channels == 1 ? 2 : 6), first_slot_(temps_ + 2),
+        slots_((avx512 ? 32 : 16) - first_slot_) {
     slot_.resize(static_cast<std::size_t>(slots_));
-    where_.assign(num_regs, -1);
+    where_.assign(static_cast<std::size_t>(num_regs) * static_cast<std::size_t>(channels), -1);
   }
 
   bool emit(const Tape& tape, const char** why) {
@@ -72,16 +93,24 @@ class Emitter {
     flush();
     next_uses(tape);
     for (k_ = 0; k_ < tape.code().size(); ++k_) {
-      if (!instruction(tape.code()[k_], regs, xp, yp, zp)) {
+      npinned_ = 0;
+      const RegInstr& ins = tape.code()[k_];
+      if (!(channels_ == 1 ? instruction(ins, regs, xp, yp, zp) : grad_instruction(ins, regs, xp, yp, zp))) {
         *why = "an opcode the JIT does not know";
         return false;
       }
     }
-    a_.vmovups(x86::ptr(outp), get(tape.root_register(), kNever, regs, -1));
+    if (out_of_registers_) {
+      *why = "too few registers";
+      return false;
+    }
+    npinned_ = 0;
+    for (int c = 0; c < channels_; ++c)
+      a_.vmovups(x86::ptr(outp, c * vb_), get(key(tape.root_register(), c), kNever, regs));
     a_.add(xp, vb_);
     a_.add(yp, vb_);
     a_.add(zp, vb_);
-    a_.add(outp, vb_);
+    a_.add(outp, vb_ * channels_);
     a_.dec(count);
     a_.jnz(loop);
     a_.bind(done);
@@ -105,13 +134,20 @@ class Emitter {
 
  private:
   static constexpr std::uint32_t kEmpty = UINT32_MAX;
-  // Machine vector registers: 0 and 1 are temporaries, 2 holds +1 and 3 holds +0 for the whole
-  // loop (reloaded after calls), 4 and up cache tape registers.
-  x86::Vec vec(int i) const { return avx512_ ? x86::Vec(x86::zmm(static_cast<std::uint32_t>(i))) : x86::Vec(x86::ymm(static_cast<std::uint32_t>(i))); }
-  x86::Vec t0() const { return vec(0); }
-  x86::Vec t1() const { return vec(1); }
-  x86::Vec one() const { return vec(2); }
-  x86::Vec zero() const { return vec(3); }
+  // Machine vector registers: temps_ temporaries (2 for values, 6 for gradients), then +1 and +0
+  // for the whole loop (reloaded after calls), then the cache of tape registers.
+  x86::Vec vec(int i) {
+    // AVX2 has 16 registers (ymm16 and up need AVX-512, which an AVX2 machine would fault on).
+    if (i >= (avx512_ ? 32 : 16)) out_of_registers_ = true;
+    return avx512_ ? x86::Vec(x86::zmm(static_cast<std::uint32_t>(i))) : x86::Vec(x86::ymm(static_cast<std::uint32_t>(i)));
+  }
+  x86::Vec t0() { return vec(0); }
+  x86::Vec t1() { return vec(1); }
+  x86::Vec t(int i) { return vec(i); }
+  x86::Vec one() { return vec(temps_); }
+  x86::Vec zero() { return vec(temps_ + 1); }
+  x86::Vec cached(int s) { return vec(first_slot_ + s); }
+  std::uint32_t key(std::uint32_t reg, int c) const { return reg * static_cast<std::uint32_t>(channels_) + static_cast<std::uint32_t>(c); }
 
   Label constant(float v) {
     const std::uint32_t bits = std::bit_cast<std::uint32_t>(v);
@@ -141,7 +177,7 @@ class Emitter {
   // from the next uses computed once per tape.
   static constexpr std::uint32_t kNever = UINT32_MAX;
   struct Slot {
-    std::uint32_t reg = kEmpty;   // tape register held
+    std::uint32_t key = kEmpty;   // what it holds: channel c of tape register r (key(r, c))
     std::uint32_t next = kNever;  // index of the instruction that reads it next
     bool dirty = false;           // not yet in the scratch array
   };
@@ -176,66 +212,78 @@ class Emitter {
     std::fill(where_.begin(), where_.end(), -1);
   }
 
-  x86::Mem slot_mem(std::uint32_t reg, const x86::Gp& regs) const {
-    return x86::ptr(regs, static_cast<std::int32_t>(static_cast<std::int64_t>(reg) * vb_));
+  x86::Mem slot_mem(std::uint32_t k, const x86::Gp& regs) const {
+    return x86::ptr(regs, static_cast<std::int32_t>(static_cast<std::int64_t>(k) * vb_));
   }
   Slot& slot(int s) { return slot_[static_cast<std::size_t>(s)]; }
   // Writes slot s's value to the scratch array if it is still to be read and not there yet.
   void write_back(int s) {
     Slot& c = slot(s);
-    if (c.reg != kEmpty && c.dirty && c.next != kNever) a_.vmovaps(slot_mem(c.reg, x86::rbx), vec(4 + s));
+    if (c.key != kEmpty && c.dirty && c.next != kNever) a_.vmovaps(slot_mem(c.key, x86::rbx), cached(s));
     c.dirty = false;
   }
   // Empties slot s (writing its value back if needed).
   void evict(int s) {
     Slot& c = slot(s);
-    if (c.reg == kEmpty) return;
+    if (c.key == kEmpty) return;
     write_back(s);
-    where_[c.reg] = -1;
+    where_[c.key] = -1;
     c = Slot();
   }
-  // The slot to take, other than `keep_a` and `keep_b`: an empty or dead one, else the one read
-  // furthest ahead.
-  int victim(int keep_a, int keep_b) {
+  bool pinned(int s) const {
+    for (int i = 0; i < npinned_; ++i)
+      if (pinned_[i] == s) return true;
+    return false;
+  }
+  void pin(int s) { pinned_[npinned_++] = s; }
+  // The slot to take, not pinned by the instruction being written: an empty or dead one, else
+  // the one read furthest ahead.
+  int victim() {
     int best = -1;
     for (int s = 0; s < slots_; ++s) {
-      if (s == keep_a || s == keep_b) continue;
+      if (pinned(s)) continue;
       const Slot& c = slot(s);
-      if (c.reg == kEmpty || c.next == kNever) return s;
+      if (c.key == kEmpty || c.next == kNever) return s;
       if (best < 0 || c.next > slot(best).next) best = s;
+    }
+    if (best < 0) {  // every register pinned: cannot happen with the counts above; refuse the tape
+      out_of_registers_ = true;
+      return 0;
     }
     return best;
   }
-  // Tape register `reg` in a machine register (loaded if needed), not taking slot `keep`; its
-  // value is next read at `next`.
-  x86::Vec get(std::uint32_t reg, std::uint32_t next, const x86::Gp& regs, int keep) {
-    int s = where_[reg];
+  // `k` (a key) in a machine register, loaded if needed and pinned for the rest of the
+  // instruction; its value is next read at `next`.
+  x86::Vec get(std::uint32_t k, std::uint32_t next, const x86::Gp& regs) {
+    int s = where_[k];
     if (s < 0) {
-      s = victim(keep, -1);
+      s = victim();
       evict(s);
-      a_.vmovaps(vec(4 + s), slot_mem(reg, regs));
-      slot(s).reg = reg;
-      where_[reg] = s;
+      a_.vmovaps(cached(s), slot_mem(k, regs));
+      slot(s).key = k;
+      where_[k] = s;
     }
     slot(s).next = next;
-    return vec(4 + s);
+    pin(s);
+    return cached(s);
   }
-  int slot_of(const x86::Vec& v) const { return static_cast<int>(v.id()) - 4; }
 
-  // The destination of instruction k_ writing tape register `out`: a slot other than its
-  // arguments' (so sequences of several operations may read them after writing it).
-  x86::Vec dest(std::uint32_t out, int keep_a, int keep_b) {
-    if (const int old = where_[out]; old >= 0) {
-      // The register's previous value dies here (an argument's slot is kept intact until the
-      // instruction is written: it is one of keep_a, keep_b).
+  // The destination of instruction k_ writing key `k`: a slot other than the arguments' and the
+  // other destinations' (pinned), so sequences of several operations may read the arguments
+  // after writing it.
+  x86::Vec dest(std::uint32_t k) {
+    if (const int old = where_[k]; old >= 0) {
+      // The register's previous value dies here (an argument's slot is pinned, so it stays
+      // intact until the instruction is written).
       slot(old) = Slot();
-      where_[out] = -1;
+      where_[k] = -1;
     }
-    const int s = victim(keep_a, keep_b);
+    const int s = victim();
     evict(s);
-    slot(s) = {out, def_next_[k_], true};
-    where_[out] = s;
-    return vec(4 + s);
+    slot(s) = {k, def_next_[k_], true};
+    where_[k] = s;
+    pin(s);
+    return cached(s);
   }
 
   // Bitwise operations (AVX-512F has them on integers only; the bits are the same).
@@ -262,12 +310,12 @@ class Emitter {
       case Op::VarX:
       case Op::VarY:
       case Op::VarZ: {
-        const x86::Vec d = dest(ins.out, -1, -1);
+        const x86::Vec d = dest(ins.out);
         a_.vmovups(d, x86::ptr(ins.op == Op::VarX ? xp : ins.op == Op::VarY ? yp : zp));
         return true;
       }
       case Op::Const: {
-        const x86::Vec d = dest(ins.out, -1, -1);
+        const x86::Vec d = dest(ins.out);
         broadcast(d, ins.imm);
         return true;
       }
@@ -277,24 +325,21 @@ class Emitter {
     if (!native(ins.op)) return call_out(ins, regs, ar);
     // Arguments: cached or loaded registers, immediates broadcast into t1.
     x86::Vec p, q;
-    int keep_a = -1, keep_b = -1;
     if (ins.mode & RegInstr::kImmA) {
       p = t1();
       broadcast(p, ins.imm);
     } else {
-      p = get(ins.a, arg_next_[2 * k_], regs, -1);
-      keep_a = slot_of(p);
+      p = get(ins.a, arg_next_[2 * k_], regs);
     }
     if (ar == 2) {
       if (ins.mode & RegInstr::kImmB) {
         q = t1();
         broadcast(q, ins.imm);
       } else {
-        q = get(ins.b, arg_next_[2 * k_ + 1], regs, keep_a);
-        keep_b = slot_of(q);
+        q = get(ins.b, arg_next_[2 * k_ + 1], regs);
       }
     }
-    const x86::Vec d = dest(ins.out, keep_a, keep_b);
+    const x86::Vec d = dest(ins.out);
     switch (ins.op) {
       case Op::Neg:
         broadcast(t0(), -0.0f);
@@ -390,7 +435,195 @@ class Emitter {
   }
 
   x86::Mem spare(int k) const {
-    return x86::ptr(x86::rbx, static_cast<std::int32_t>((static_cast<std::int64_t>(num_regs_) + k) * vb_));
+    return x86::ptr(x86::rbx, static_cast<std::int32_t>((static_cast<std::int64_t>(num_regs_) * channels_ + k) * vb_));
+  }
+
+  // ---- Values and gradients (channels_ == 4) -------------------------------------------------
+  // Each operation computes what the interpreter's gradient evaluator computes (grad_eval.cpp:
+  // its SIMD forms for the ops it vectorizes, its scalar path through grad_partials.hpp for the
+  // others, which are calls here too).
+
+  void unpin(int s) {
+    for (int i = 0; i < npinned_; ++i)
+      if (pinned_[i] == s) {
+        pinned_[i] = pinned_[--npinned_];
+        return;
+      }
+  }
+  int slot_of(const x86::Vec& v) const { return static_cast<int>(v.id()) - first_slot_; }
+  // An argument's channel c: its cached register, or for an immediate its value in `imm_reg`
+  // (c = 0) and +0 (gradients).
+  x86::Vec garg(const RegInstr& ins, bool second, int c, const x86::Gp& regs) {
+    const bool imm = second ? (ins.mode & RegInstr::kImmB) : (ins.mode & RegInstr::kImmA);
+    if (imm) return c == 0 ? t(second ? 5 : 4) : zero();
+    return get(key(second ? ins.b : ins.a, c), arg_next_[2 * k_ + (second ? 1 : 0)], regs);
+  }
+  void release_arg(const RegInstr& ins, bool second, const x86::Vec& v) {
+    const bool imm = second ? (ins.mode & RegInstr::kImmB) : (ins.mode & RegInstr::kImmA);
+    if (!imm) unpin(slot_of(v));
+  }
+  // d = p == 0 ? +0 : p * dv (a zero partial never turns an infinite or NaN gradient into NaN);
+  // d must not be p.
+  void scaled(const x86::Vec& d, const x86::Vec& p, const x86::Vec& dv) {
+    a_.vmulps(d, p, dv);
+    if (avx512_) {
+      a_.vcmpps(x86::k1, p, zero(), kEqOQ);
+      a_.k(x86::k1).vmovaps(d, zero());
+    } else {
+      a_.vcmpps(t0(), p, zero(), kEqOQ);
+      a_.vandnps(d, t0(), d);
+    }
+  }
+  // d = mask ? q : p, the mask from a compare into k2 (AVX-512) or t(2) (AVX2).
+  void cmp_mask(const x86::Vec& p, const x86::Vec& q, int predicate) {
+    if (avx512_) {
+      a_.vcmpps(x86::k2, p, q, predicate);
+    } else {
+      a_.vcmpps(t(2), p, q, predicate);
+    }
+  }
+  void blend_mask(const x86::Vec& d, const x86::Vec& p, const x86::Vec& q) {
+    if (avx512_) {
+      if (d != p) a_.vmovaps(d, p);
+      a_.k(x86::k2).vmovaps(d, q);
+    } else {
+      a_.vblendvps(d, p, q, t(2));
+    }
+  }
+
+  bool grad_instruction(const RegInstr& ins, const x86::Gp& regs, const x86::Gp& xp, const x86::Gp& yp,
+                        const x86::Gp& zp) {
+    const int ar = op_arity(ins.op);
+    switch (ins.op) {
+      case Op::VarX:
+      case Op::VarY:
+      case Op::VarZ: {
+        const int axis = static_cast<int>(ins.op) - static_cast<int>(Op::VarX);
+        a_.vmovups(dest(key(ins.out, 0)), x86::ptr(axis == 0 ? xp : axis == 1 ? yp : zp));
+        for (int c = 1; c < 4; ++c) a_.vmovaps(dest(key(ins.out, c)), c - 1 == axis ? one() : zero());
+        return true;
+      }
+      case Op::Const:
+        broadcast(dest(key(ins.out, 0)), ins.imm);
+        for (int c = 1; c < 4; ++c) a_.vmovaps(dest(key(ins.out, c)), zero());
+        return true;
+      case Op::Oracle: return false;
+      default: break;
+    }
+    switch (ins.op) {
+      case Op::Add: case Op::Sub: case Op::Mul: case Op::Div: case Op::Min: case Op::Max: case Op::Neg:
+      case Op::Abs: case Op::Square: case Op::Sqrt:
+        break;
+      default: return call_out(ins, regs, ar);
+    }
+    if (ins.mode & RegInstr::kImmA) broadcast(t(4), ins.imm);
+    if (ins.mode & RegInstr::kImmB) broadcast(t(5), ins.imm);
+    const x86::Vec av = garg(ins, false, 0, regs);
+    const x86::Vec bv = ar == 2 ? garg(ins, true, 0, regs) : zero();
+    // The value, and what the gradient channels need from it.
+    const x86::Vec v = dest(key(ins.out, 0));
+    switch (ins.op) {
+      case Op::Add: a_.vaddps(v, av, bv); break;
+      case Op::Sub: a_.vsubps(v, av, bv); break;
+      case Op::Mul: a_.vmulps(v, av, bv); break;
+      case Op::Div:
+        a_.vdivps(t(2), one(), bv);  // d/da = 1 / b
+        a_.vmulps(t(3), bv, bv);     // d/db = -(a / (b * b))
+        a_.vdivps(t(3), av, t(3));
+        broadcast(t1(), -0.0f);
+        vxor(t(3), t(3), t1());
+        a_.vdivps(v, av, bv);
+        break;
+      case Op::Min:
+      case Op::Max:
+        if (ins.op == Op::Min) {
+          a_.vminps(v, av, bv);
+        } else {
+          a_.vmaxps(v, av, bv);
+        }
+        if (avx512_) {
+          a_.vcmpps(x86::k1, av, av, kUnordQ);
+          a_.k(x86::k1).vmovaps(v, av);
+          a_.vcmpps(x86::k2, av, bv, ins.op == Op::Min ? kLtOQ : kGtOQ);  // take a's gradient
+          a_.vcmpps(x86::k3, v, v, kUnordQ);                              // NaN: the gradient is the value
+        } else {
+          a_.vcmpps(t0(), av, av, kUnordQ);
+          a_.vblendvps(v, v, av, t0());
+          a_.vcmpps(t(2), av, bv, ins.op == Op::Min ? kLtOQ : kGtOQ);
+          a_.vcmpps(t(3), v, v, kUnordQ);
+        }
+        break;
+      case Op::Neg:
+        broadcast(t(3), -0.0f);
+        vxor(v, av, t(3));
+        break;
+      case Op::Abs:
+        broadcast(t(3), -0.0f);
+        cmp_mask(av, zero(), kLtOQ);  // negative: the gradient flips
+        avx512_ ? a_.vpandnd(v, t(3), av) : a_.vandnps(v, t(3), av);
+        break;
+      case Op::Square:
+        a_.vmulps(v, av, av);
+        broadcast(t(2), 2.0f);
+        a_.vmulps(t(2), t(2), av);  // d/da = 2 a
+        break;
+      case Op::Sqrt:
+        a_.vsqrtps(v, av);
+        broadcast(t(2), 0.5f);
+        a_.vdivps(t(2), t(2), v);  // d/da = 0.5 / v, or 0 where v is 0
+        if (avx512_) {
+          a_.vcmpps(x86::k1, v, zero(), kEqOQ);
+          a_.k(x86::k1).vmovaps(t(2), zero());
+        } else {
+          a_.vcmpps(t0(), v, zero(), kEqOQ);
+          a_.vandnps(t(2), t0(), t(2));
+        }
+        break;
+      default: return false;
+    }
+    // The gradient channels, one at a time (their arguments are released after each, so that
+    // AVX2's few registers suffice).
+    for (int c = 1; c < 4; ++c) {
+      const x86::Vec da = garg(ins, false, c, regs);
+      const x86::Vec db = ar == 2 ? garg(ins, true, c, regs) : zero();
+      const x86::Vec d = dest(key(ins.out, c));
+      switch (ins.op) {
+        case Op::Add: a_.vaddps(d, da, db); break;
+        case Op::Sub: a_.vsubps(d, da, db); break;
+        case Op::Mul:  // b da + a db
+          scaled(d, bv, da);
+          scaled(t1(), av, db);
+          a_.vaddps(d, d, t1());
+          break;
+        case Op::Div:
+          scaled(d, t(2), da);
+          scaled(t1(), t(3), db);
+          a_.vaddps(d, d, t1());
+          break;
+        case Op::Min:
+        case Op::Max:
+          if (avx512_) {
+            a_.vmovaps(d, db);
+            a_.k(x86::k2).vmovaps(d, da);
+            a_.k(x86::k3).vmovaps(d, v);
+          } else {
+            a_.vblendvps(d, db, da, t(2));
+            a_.vblendvps(d, d, v, t(3));
+          }
+          break;
+        case Op::Neg: vxor(d, da, t(3)); break;
+        case Op::Abs:
+          vxor(t1(), da, t(3));
+          blend_mask(d, da, t1());
+          break;
+        case Op::Square:
+        case Op::Sqrt: scaled(d, t(2), da); break;
+        default: return false;
+      }
+      release_arg(ins, false, da);
+      if (ar == 2) release_arg(ins, true, db);
+    }
+    return true;
   }
 
   // Whether the op has a vector form here; the others are calls.
@@ -410,11 +643,30 @@ class Emitter {
   bool call_out(const RegInstr& ins, const x86::Gp& regs, int ar) {
     if (ar < 1 || ar > 2) return false;
     for (std::uint32_t r : {ins.a, ins.b})
-      if (const int s = r < num_regs_ ? where_[r] : -1; s >= 0 && slot(s).dirty) {
-        a_.vmovaps(slot_mem(r, regs), vec(4 + s));
-        slot(s).dirty = false;
-      }
+      for (int c = 0; c < channels_ && r < num_regs_; ++c)
+        if (const int s = where_[key(r, c)]; s >= 0 && slot(s).dirty) {
+          a_.vmovaps(slot_mem(key(r, c), regs), cached(s));
+          slot(s).dirty = false;
+        }
     for (int s = 0; s < slots_; ++s) write_back(s);
+    if (channels_ == 4) {
+      // grad_scalar(o, A, B, op, flags, lanes, imm): blocks of four channels; an immediate is
+      // passed by value (its pointer argument is any valid address).
+      const bool ia = ins.mode & RegInstr::kImmA, ib = ins.mode & RegInstr::kImmB;
+      a_.lea(x86::rdi, slot_mem(key(ins.out, 0), regs));
+      a_.lea(x86::rsi, slot_mem(key(ia ? ins.out : ins.a, 0), regs));
+      a_.lea(x86::rdx, slot_mem(key(ar == 2 && !ib ? ins.b : ins.out, 0), regs));
+      a_.mov(x86::ecx, static_cast<int>(ins.op));
+      a_.mov(x86::r8d, (ia ? 1 : 0) | (ib ? 2 : 0) | (ar == 2 ? 4 : 0));
+      a_.mov(x86::r9d, lanes_);
+      a_.vmovss(x86::xmm0, x86::dword_ptr(constant(ins.imm)));
+      a_.vzeroupper();  // keeps xmm0 (the low half)
+      a_.mov(x86::rax, reinterpret_cast<std::uint64_t>(&grad_scalar));
+      a_.call(x86::rax);
+      flush();
+      load_constants();
+      return true;
+    }
     const auto operand = [&](bool imm, std::uint32_t reg, int spare_index, const x86::Gp& dst) {
       if (imm) {
         broadcast(t0(), ins.imm);
@@ -446,9 +698,13 @@ class Emitter {
   bool avx512_;
   int vb_, lanes_;
   std::uint32_t num_regs_;
-  int slots_;
-  std::vector<Slot> slot_;                  // the cache: machine registers 4 and up
-  std::vector<int> where_;                  // per tape register: its slot, or -1
+  int channels_, temps_, first_slot_;
+  int slots_;  // (after first_slot_: initialized from it)
+  std::vector<Slot> slot_;                  // the cache: machine registers first_slot_ and up
+  std::vector<int> where_;                  // per key: its slot, or -1
+  int pinned_[16] = {};                     // slots the instruction being written reads or writes
+  int npinned_ = 0;
+  bool out_of_registers_ = false;
   std::vector<std::uint32_t> def_next_, arg_next_;
   std::size_t k_ = 0;                       // the instruction being written
   std::unordered_map<std::uint32_t, Label> pool_, vector_pool_;
@@ -463,20 +719,20 @@ struct CodeCache::Runtime {
 CodeCache::CodeCache(bool avx512) : avx512_(avx512) {}
 CodeCache::~CodeCache() = default;
 
-BatchFn CodeCache::compile_batch(const Tape& tape, const char** why) {
+CompiledFn CodeCache::compile(const Tape& tape, int channels, const char** why) {
   if (!rt_) rt_ = std::make_unique<Runtime>();  // evaluators that never compile never map code memory
   CodeHolder code;
   code.init(rt_->rt.environment());
   ErrorCatcher errors;
   code.setErrorHandler(&errors);
   x86::Assembler a(&code);
-  Emitter e(a, avx512_, tape.num_registers());
+  Emitter e(a, avx512_, tape.num_registers(), channels);
   if (!e.emit(tape, why)) return nullptr;
   if (errors.failed) {
     *why = errors.why ? errors.why : "assembler error";
     return nullptr;
   }
-  BatchFn fn = nullptr;
+  CompiledFn fn = nullptr;
   if (rt_->rt.add(&fn, &code) != kErrorOk) {
     *why = "no executable memory";
     return nullptr;
@@ -484,7 +740,7 @@ BatchFn CodeCache::compile_batch(const Tape& tape, const char** why) {
   return fn;
 }
 
-void CodeCache::release(BatchFn fn) {
+void CodeCache::release(CompiledFn fn) {
   if (fn && rt_) rt_->rt.release(fn);
 }
 
@@ -507,11 +763,11 @@ namespace frep::jit {
 struct CodeCache::Runtime {};
 CodeCache::CodeCache(bool avx512) : avx512_(avx512) {}
 CodeCache::~CodeCache() = default;
-BatchFn CodeCache::compile_batch(const Tape&, const char** why) {
+CompiledFn CodeCache::compile(const Tape&, int, const char** why) {
   *why = "this build has no JIT";
   return nullptr;
 }
-void CodeCache::release(BatchFn) {}
+void CodeCache::release(CompiledFn) {}
 bool cpu_has_avx2() { return false; }
 bool cpu_has_avx512() { return false; }
 

@@ -9,9 +9,10 @@
 
 namespace frep::jit {
 
-// out[v * L + i] = f(x[v * L + i], ...) for v < vectors and i < L lanes (L = 8 or 16); `regs` is
-// scratch of scratch_floats(tape) floats, 64-byte aligned.
-using BatchFn = void (*)(const float* x, const float* y, const float* z, float* out, float* regs, std::size_t vectors);
+// For v < vectors and i < L lanes (L = 8 or 16), point p = v * L + i: values, out[p] = f(x[p], ...);
+// or values and gradients, out[4 v L + c L + i] = channel c (f, df/dx, df/dy, df/dz) at p.
+// `regs` is scratch of scratch_floats floats, 64-byte aligned.
+using CompiledFn = void (*)(const float* x, const float* y, const float* z, float* out, float* regs, std::size_t vectors);
 
 // Owns generated code (one per evaluator: not shared between threads).
 class CodeCache {
@@ -22,14 +23,16 @@ class CodeCache {
   CodeCache& operator=(const CodeCache&) = delete;
 
   int lanes() const { return avx512_ ? 16 : 8; }
-  // Compiles the tape's register code; null if it cannot (an opcode it does not know, an
-  // assembler error), with the reason in `why`.
-  BatchFn compile_batch(const Tape& tape, const char** why);
-  // Gives back the memory of a function compile_batch returned.
-  void release(BatchFn fn);
+  // Compiles the tape's register code for values (channels 1) or values and gradients
+  // (channels 4); null if it cannot (an opcode it does not know, an assembler error), with the
+  // reason in `why`.
+  CompiledFn compile(const Tape& tape, int channels, const char** why);
+  // Gives back the memory of a function compile returned.
+  void release(CompiledFn fn);
   // Floats of scratch a compiled tape needs.
-  static std::size_t scratch_floats(const Tape& tape, int lanes) {
-    return (static_cast<std::size_t>(tape.num_registers()) + 2) * static_cast<std::size_t>(lanes);
+  static std::size_t scratch_floats(const Tape& tape, int lanes, int channels) {
+    return (static_cast<std::size_t>(tape.num_registers()) * static_cast<std::size_t>(channels) + 2) *
+           static_cast<std::size_t>(lanes);
   }
 
  private:

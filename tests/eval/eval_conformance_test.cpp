@@ -167,8 +167,10 @@ struct PointCloudBackend : Backend {
 };
 
 struct GradBackend : Backend {
-  explicit GradBackend(std::size_t b) : batch(b) {}
+  explicit GradBackend(std::size_t b, std::unique_ptr<frep::Backend> on = nullptr)
+      : batch(b), backend(std::move(on)), ev(backend ? *backend : default_backend()) {}
   std::size_t batch;
+  std::unique_ptr<frep::Backend> backend;  // null: the default
   GradEvaluator ev;
   std::vector<Grad> tmp;
   void run(const Tape& t, const std::vector<float>& xs, const std::vector<float>& ys, const std::vector<float>& zs,
@@ -228,6 +230,10 @@ std::unique_ptr<Backend> make_backend(const std::string& name) {
   if (name == "PointCloud") return std::make_unique<PointCloudBackend>();
   for (const auto& [prefix, isa] : {std::pair{"JitAvx2Batch", JitIsa::Avx2}, std::pair{"JitAvx512Batch", JitIsa::Avx512}})
     if (name.rfind(prefix, 0) == 0) return std::make_unique<JitBatchBackend>(std::stoul(name.substr(std::strlen(prefix))), isa);
+  for (const auto& [prefix, isa] : {std::pair{"JitAvx2Grad", JitIsa::Avx2}, std::pair{"JitAvx512Grad", JitIsa::Avx512}})
+    if (name.rfind(prefix, 0) == 0)
+      return std::make_unique<GradBackend>(std::stoul(name.substr(std::strlen(prefix))),
+                                           make_jit_backend({.isa = isa, .compile_after_points = 0}));
   if (name.rfind("Batch", 0) == 0) return std::make_unique<BatchBackend>(std::stoul(name.substr(5)));
   if (name.rfind("Grad", 0) == 0) return std::make_unique<GradBackend>(std::stoul(name.substr(4)));
   return nullptr;
@@ -521,9 +527,10 @@ std::vector<std::string> conformance_params() {
                            "Grad1", "Grad63", "Grad64", "Grad65", "Grad1000", "IntervalBatch"})
     for (std::int64_t t : test::simd_targets()) v.push_back(std::string(simd) + "_" + test::simd_target_name(t));
   // The JIT in each instruction set this CPU runs (the interpreter's SIMD target does not apply).
-  for (const auto& [isa, prefix] : {std::pair{JitIsa::Avx2, "JitAvx2Batch"}, std::pair{JitIsa::Avx512, "JitAvx512Batch"}}) {
+  for (const auto& [isa, name] : {std::pair{JitIsa::Avx2, "JitAvx2"}, std::pair{JitIsa::Avx512, "JitAvx512"}}) {
     if (!jit_supported(isa)) continue;
-    for (const char* b : {"1", "7", "8", "9", "16", "17", "256", "1000"}) v.push_back(std::string(prefix) + b);
+    for (const char* b : {"1", "7", "8", "9", "16", "17", "256", "1000"}) v.push_back(std::string(name) + "Batch" + b);
+    for (const char* b : {"1", "9", "17", "1000"}) v.push_back(std::string(name) + "Grad" + b);
   }
   return v;
 }
