@@ -3,12 +3,13 @@
 // set_default_backend(&jit_backend()), and gives results bit-identical to the interpreter's: the
 // same f32 operations in the same order.
 //
-// What it compiles: the batch evaluator's tapes. A tape is compiled once it has been asked for
-// enough points to pay for its compilation (JitOptions::compile_after_points, measured by
-// bench/jit.sh), and its code is kept for later calls, keyed by Tape::stamp. Everything else runs
-// on the interpreter: tapes with oracles (their code is a call anyway), tapes longer than
-// max_instructions, CPUs without AVX2, the gradient and interval evaluators, and any tape whose
-// compilation fails (reported on stderr when FREP_JIT_DEBUG is set).
+// What it compiles: the tapes of the batch and gradient evaluators. A tape is compiled once it
+// has been asked for enough points to pay for its compilation (JitOptions::compile_after_points,
+// measured by bench/jit.sh), and its code is kept for later calls, keyed by Tape::stamp.
+// Everything else runs on the interpreter: tapes with oracles (their code is a call anyway),
+// tapes longer than max_instructions, CPUs without AVX2, the interval evaluator (each of its
+// tapes is evaluated once, over 16 boxes: never enough to pay back a compilation), and any tape
+// whose compilation fails (reported on stderr when FREP_JIT_DEBUG is set).
 #pragma once
 
 #include <cstddef>
