@@ -3,11 +3,13 @@
 #include "frep/eval/jit.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <vector>
 
 #include "eval/interp_kernels.hpp"
@@ -18,13 +20,34 @@
 namespace frep {
 namespace {
 
-struct Counters {
+// The statistics, counted per thread (a shared counter's cache line would bounce between the
+// render's threads on every leaf) and summed by jit_stats. Each thread's counters stay registered
+// after it ends, so nothing counted is lost.
+struct alignas(64) Counters {
   std::atomic<std::uint64_t> tapes_compiled{0}, instructions_compiled{0}, compile_nanoseconds{0}, compile_failures{0},
       points_compiled{0}, points_interpreted{0};
 };
+struct CounterRegistry {
+  std::mutex mutex;
+  std::vector<std::shared_ptr<Counters>> all;
+};
+CounterRegistry& registry() {
+  static CounterRegistry r;
+  return r;
+}
 Counters& counters() {
-  static Counters c;
-  return c;
+  thread_local const std::shared_ptr<Counters> mine = [] {
+    auto c = std::make_shared<Counters>();
+    CounterRegistry& r = registry();
+    const std::lock_guard<std::mutex> lock(r.mutex);
+    r.all.push_back(c);
+    return c;
+  }();
+  return *mine;
+}
+// Adds to a counter only this thread writes: a plain load and store, no locked instruction.
+void add(std::atomic<std::uint64_t>& c, std::uint64_t n) {
+  c.store(c.load(std::memory_order_relaxed) + n, std::memory_order_relaxed);
 }
 
 bool debug_enabled() {
@@ -49,7 +72,7 @@ class TapeCode {
  public:
   TapeCode(const JitOptions& o, bool avx512, int channels) : options_(o), cache_(avx512), channels_(channels) {}
   ~TapeCode() {
-    for (Entry& e : entries_) cache_.release(e.fn);
+    for (Entry& e : table_) cache_.release(e.fn);
   }
   TapeCode(const TapeCode&) = delete;
   TapeCode& operator=(const TapeCode&) = delete;
@@ -57,25 +80,24 @@ class TapeCode {
   int lanes() const { return cache_.lanes(); }
 
   // The compiled code for `tape`, compiling it if it has now been asked for enough points; null
-  // where the interpreter runs it.
+  // where the interpreter runs it. Called for every evaluation (the renderers' leaves included),
+  // so the lookup is two table slots, not a search.
   jit::CompiledFn function_for(const Tape& tape, std::size_t n) {
     const std::uint64_t stamp = tape.stamp();
     if (stamp == 0 || tape.code().empty() || tape.code().size() > options_.max_instructions || tape.oracles()) return nullptr;
     ++clock_;
-    Entry* e = nullptr;
-    for (Entry& c : entries_)
-      if (c.stamp == stamp) e = &c;
+    // Two candidate slots (stamps are consecutive: the first spreads them, the second is a hash).
+    Entry* const a = &table_[stamp & (kSlots - 1)];
+    Entry* const b = &table_[(stamp * 0x9E3779B97F4A7C15ull) >> (64 - kSlotBits)];
+    Entry* e = a->stamp == stamp ? a : b->stamp == stamp ? b : nullptr;
     if (!e) {
-      // Tapes seen but not compiled are tracked too, in as many entries again as compiled ones.
-      const std::size_t limit = 2 * static_cast<std::size_t>(std::max(options_.max_cached_tapes, 1));
-      if (entries_.size() < limit) {
-        e = &entries_.emplace_back();
-      } else {
-        e = &*std::min_element(entries_.begin(), entries_.end(),
-                               [](const Entry& a, const Entry& b) { return a.used < b.used; });
+      // Replace the candidate that has no code, else the one used longer ago.
+      e = (!a->fn && b->fn) ? a : (a->fn && !b->fn) ? b : (a->used <= b->used ? a : b);
+      if (e->fn) {
         cache_.release(e->fn);
-        *e = Entry();
+        --compiled_;
       }
+      *e = Entry();
       e->stamp = stamp;
     }
     e->used = clock_;
@@ -83,17 +105,15 @@ class TapeCode {
     e->points += n;
     if (e->points < options_.compile_after_points) return nullptr;
     // Keep at most max_cached_tapes compiled: the least recently used compiled one goes.
-    std::size_t compiled = 0;
-    Entry* oldest = nullptr;
-    for (Entry& c : entries_)
-      if (c.fn) {
-        ++compiled;
-        if (!oldest || c.used < oldest->used) oldest = &c;
+    if (compiled_ >= static_cast<std::size_t>(std::max(options_.max_cached_tapes, 1))) {
+      Entry* oldest = nullptr;
+      for (Entry& c : table_)
+        if (c.fn && (!oldest || c.used < oldest->used)) oldest = &c;
+      if (oldest) {
+        cache_.release(oldest->fn);
+        *oldest = Entry();
+        --compiled_;
       }
-    if (oldest && compiled >= static_cast<std::size_t>(std::max(options_.max_cached_tapes, 1))) {
-      cache_.release(oldest->fn);
-      oldest->fn = nullptr;
-      oldest->points = 0;
     }
     const auto t0 = std::chrono::steady_clock::now();
     const char* why = "";
@@ -102,15 +122,16 @@ class TapeCode {
     const char* what = channels_ == 1 ? "values" : "gradients";
     if (!e->fn) {
       e->failed = true;
-      counters().compile_failures.fetch_add(1, std::memory_order_relaxed);
+      add(counters().compile_failures, 1);
       if (debug_enabled())
         std::fprintf(stderr, "frep jit: a tape of %zu instructions (%s) runs on the interpreter: %s\n", tape.code().size(),
                      what, why);
       return nullptr;
     }
-    counters().tapes_compiled.fetch_add(1, std::memory_order_relaxed);
-    counters().instructions_compiled.fetch_add(tape.code().size(), std::memory_order_relaxed);
-    counters().compile_nanoseconds.fetch_add(static_cast<std::uint64_t>(ns), std::memory_order_relaxed);
+    ++compiled_;
+    add(counters().tapes_compiled, 1);
+    add(counters().instructions_compiled, tape.code().size());
+    add(counters().compile_nanoseconds, static_cast<std::uint64_t>(ns));
     if (debug_enabled())
       std::fprintf(stderr, "frep jit: compiled a tape of %zu instructions (%s) in %.1f us\n", tape.code().size(), what,
                    static_cast<double>(ns) / 1e3);
@@ -126,10 +147,13 @@ class TapeCode {
     std::uint64_t used = 0;          // when last asked for (for eviction)
   };
 
+  static constexpr int kSlotBits = 6;
+  static constexpr std::size_t kSlots = std::size_t{1} << kSlotBits;
   JitOptions options_;
   jit::CodeCache cache_;
   int channels_;
-  std::vector<Entry> entries_;
+  std::array<Entry, kSlots> table_{};
+  std::size_t compiled_ = 0;  // entries with code
   std::uint64_t clock_ = 0;
 };
 
@@ -168,10 +192,10 @@ class JitBatch final : public BatchKernel {
     if (n == 0) return;
     const jit::CompiledFn fn = code_.function_for(tape, n);
     if (!fn) {
-      counters().points_interpreted.fetch_add(n, std::memory_order_relaxed);
+      add(counters().points_interpreted, n);
       return fallback_->eval(tape, xs, ys, zs, out, n);
     }
-    counters().points_compiled.fetch_add(n, std::memory_order_relaxed);
+    add(counters().points_compiled, n);
     const std::size_t lanes = static_cast<std::size_t>(code_.lanes());
     const std::size_t need = jit::CodeCache::scratch_floats(tape, code_.lanes(), 1);
     if (regs_.size() < need) regs_.resize(need);
@@ -200,10 +224,10 @@ class JitGrad final : public GradKernel {
     if (n == 0) return;
     const jit::CompiledFn fn = code_.function_for(tape, n);
     if (!fn) {
-      counters().points_interpreted.fetch_add(n, std::memory_order_relaxed);
+      add(counters().points_interpreted, n);
       return fallback_->eval(tape, xs, ys, zs, out, n);
     }
-    counters().points_compiled.fetch_add(n, std::memory_order_relaxed);
+    add(counters().points_compiled, n);
     const std::size_t need = jit::CodeCache::scratch_floats(tape, code_.lanes(), 4);
     if (regs_.size() < need) regs_.resize(need);
     const std::size_t L = static_cast<std::size_t>(code_.lanes());
@@ -265,22 +289,18 @@ const Backend& jit_backend() {
 }
 
 JitStats jit_stats() {
-  const Counters& c = counters();
   JitStats s;
-  s.tapes_compiled = c.tapes_compiled.load();
-  s.instructions_compiled = c.instructions_compiled.load();
-  s.compile_nanoseconds = c.compile_nanoseconds.load();
-  s.compile_failures = c.compile_failures.load();
-  s.points_compiled = c.points_compiled.load();
-  s.points_interpreted = c.points_interpreted.load();
+  CounterRegistry& r = registry();
+  const std::lock_guard<std::mutex> lock(r.mutex);
+  for (const auto& c : r.all) {
+    s.tapes_compiled += c->tapes_compiled.load(std::memory_order_relaxed);
+    s.instructions_compiled += c->instructions_compiled.load(std::memory_order_relaxed);
+    s.compile_nanoseconds += c->compile_nanoseconds.load(std::memory_order_relaxed);
+    s.compile_failures += c->compile_failures.load(std::memory_order_relaxed);
+    s.points_compiled += c->points_compiled.load(std::memory_order_relaxed);
+    s.points_interpreted += c->points_interpreted.load(std::memory_order_relaxed);
+  }
   return s;
-}
-
-void reset_jit_stats() {
-  Counters& c = counters();
-  for (auto* a : {&c.tapes_compiled, &c.instructions_compiled, &c.compile_nanoseconds, &c.compile_failures,
-                  &c.points_compiled, &c.points_interpreted})
-    a->store(0);
 }
 
 }  // namespace frep

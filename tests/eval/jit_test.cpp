@@ -151,7 +151,9 @@ TEST(Jit, SelectedByNameAndExplicitInstructionSetsTheCpuLacksAreErrors) {
   EXPECT_STREQ(backend_by_name("jit").name(), "jit");
   EXPECT_EQ(&backend_by_name("jit"), &jit_backend());
   for (JitIsa isa : {JitIsa::Avx2, JitIsa::Avx512})
-    if (!jit_supported(isa)) EXPECT_THROW(make_jit_backend({.isa = isa}), InputError);
+    if (!jit_supported(isa)) {
+      EXPECT_THROW(make_jit_backend({.isa = isa}), InputError);
+    }
 }
 
 TEST(Jit, RendersTheSameImagesAsTheInterpreter) {

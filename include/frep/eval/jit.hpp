@@ -36,7 +36,7 @@ struct JitOptions {
   // compiles every tape on first use (the tests do, to run the generated code on everything).
   std::size_t compile_after_points = 4096;
   std::size_t max_instructions = std::size_t{1} << 18;  // longer tapes stay interpreted
-  int max_cached_tapes = 16;  // compiled tapes kept per evaluator (least recently used goes)
+  int max_cached_tapes = 16;  // compiled tapes kept per evaluator (at most 64; the least recently used goes)
 };
 
 // True if this build has the JIT and this CPU runs `isa`'s code.
@@ -59,6 +59,5 @@ struct JitStats {
   std::uint64_t points_interpreted = 0;    // points a JIT evaluator left to the interpreter
 };
 JitStats jit_stats();
-void reset_jit_stats();
 
 }  // namespace frep
