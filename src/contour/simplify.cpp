@@ -131,7 +131,10 @@ class Simplifier {
   std::vector<std::pair<Triangle, double>> checks_;  // triangles to sample, with their limits
   std::uint32_t stamp_ = 0;
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> heap_;
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> hash_;
+  // Spatial hash: per cell, entries (triangle << 32 | its version when inserted). A triangle that
+  // moves gets a new version and new entries; old ones are dropped when their cell is next read.
+  std::unordered_map<std::uint64_t, std::vector<std::uint64_t>> hash_;
+  std::vector<std::uint32_t> tver_;  // per triangle: its version
   BatchEvaluator eval_;
   std::vector<float> xs_, ys_, zs_, out_;
   std::vector<double> limit_;  // per sample: the bound on |f| of its triangle
@@ -188,9 +191,22 @@ class Simplifier {
       for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
         for (std::int64_t k = lo[2]; k <= hi[2]; ++k) f(key(i, j, k));
   }
-  // Stale entries (a triangle that moved or died) stay in their old cells; queries skip them.
+  // (Re)inserts triangle t at its current corners under a new version.
   void hash_insert(std::uint32_t t) {
-    for_cells(box_of(corners(t)), [&](std::uint64_t k) { hash_[k].push_back(t); });
+    if (tver_.size() <= t) tver_.resize(T_.size(), 0);
+    const std::uint64_t entry = static_cast<std::uint64_t>(t) << 32 | ++tver_[t];
+    for_cells(box_of(corners(t)), [&](std::uint64_t k) { hash_[k].push_back(entry); });
+  }
+  // The current triangles a cell's list holds (dropping entries of triangles that died or moved
+  // since, which would otherwise pile up as collapses move triangles about).
+  std::vector<std::uint64_t>& live_entries(std::vector<std::uint64_t>& list) {
+    std::size_t w = 0;
+    for (const std::uint64_t e : list) {
+      const std::uint32_t t = static_cast<std::uint32_t>(e >> 32);
+      if (alive_[t] && tver_[t] == static_cast<std::uint32_t>(e)) list[w++] = e;
+    }
+    list.resize(w);
+    return list;
   }
 
   // The vertices of v's triangles (v among them), sorted and distinct, into `out`.
@@ -286,8 +302,9 @@ class Simplifier {
         if (bad) return;
         const auto it = hash_.find(k);
         if (it == hash_.end()) return;
-        for (std::uint32_t c : it->second) {
-          if (!alive_[c] || mark_[c] == stamp_) continue;
+        for (const std::uint64_t e : live_entries(it->second)) {
+          const std::uint32_t c = static_cast<std::uint32_t>(e >> 32);
+          if (mark_[c] == stamp_) continue;
           if (seen_.size() < T_.size()) seen_.resize(T_.size(), 0);
           if (seen_[c] == qstamp_) continue;
           seen_[c] = qstamp_;
