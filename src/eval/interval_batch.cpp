@@ -249,6 +249,11 @@ HWY_AFTER_NAMESPACE();
 namespace frep {
 HWY_EXPORT(EvalBoxes);
 
+// Tapes up to this size are simplified into outputs sized for the whole tape (16 boxes x 4096
+// instructions x 36 bytes: 2.4 MB per level and worker at most) without counting what each box
+// keeps.
+constexpr std::size_t kCountKeptAbove = 4096;
+
 namespace interp {
 namespace {
 
@@ -335,6 +340,11 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
   std::uint16_t* fin = fin_.data();
   float* caps = caps_.data();
   std::size_t kept[kLanes] = {};  // per box: live instructions, the most its tape can keep
+  // Counted only where it matters: to leave out boxes keeping most of the tape, or to size the
+  // outputs of big tapes; a small tape's outputs may as well be sized for all of it (counting
+  // costs a loop over the boxes of every instruction).
+  const bool count_kept = max_kept < 1.0 || n > kCountKeptAbove;
+  if (!count_kept) std::fill(kept, kept + kLanes, n);
   const auto use_uncapped = [&](std::uint32_t j, std::uint32_t bits) {
     fin[j] = static_cast<std::uint16_t>(fin[j] & ~bits);
     live[j] = static_cast<std::uint16_t>(live[j] | bits);
@@ -369,13 +379,15 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
     const SsaInstr& ins = in[i];
     const std::uint32_t m = live[i];
     if (ins.op == Op::Const) {
-      for (std::uint32_t bits = m; bits; bits &= bits - 1) ++kept[__builtin_ctz(bits)];
+      if (count_kept)
+        for (std::uint32_t bits = m; bits; bits &= bits - 1) ++kept[__builtin_ctz(bits)];
       continue;
     }
     --kc;
     if (ins.op == Op::Min && caps::min_bounds_recorded(record_.left[kc], record_.right[kc], simplifiable)) mins -= 4 * kLanes;
     if (!m) continue;
-    for (std::uint32_t bits = m; bits; bits &= bits - 1) ++kept[__builtin_ctz(bits)];
+    if (count_kept)
+      for (std::uint32_t bits = m; bits; bits &= bits - 1) ++kept[__builtin_ctz(bits)];
     const int ar = op_arity(ins.op);
     if (ar == 0) continue;
     const std::uint32_t rest = m & ~static_cast<std::uint32_t>(record_.fold[kc]);
