@@ -93,7 +93,7 @@ class Emitter {
     flush();
     next_uses(tape);
     for (k_ = 0; k_ < tape.code().size(); ++k_) {
-      npinned_ = 0;
+      pinned_ = 0;
       const RegInstr& ins = tape.code()[k_];
       if (!(channels_ == 1 ? instruction(ins, regs, xp, yp, zp) : grad_instruction(ins, regs, xp, yp, zp))) {
         *why = "an opcode the JIT does not know";
@@ -104,7 +104,7 @@ class Emitter {
       *why = "too few registers";
       return false;
     }
-    npinned_ = 0;
+    pinned_ = 0;
     for (int c = 0; c < channels_; ++c)
       a_.vmovups(x86::ptr(outp, c * vb_), get(key(tape.root_register(), c), kNever, regs));
     a_.add(xp, vb_);
@@ -209,6 +209,7 @@ class Emitter {
 
   void flush() {
     for (Slot& s : slot_) s = Slot();
+    free_ = slots_ == 32 ? ~0u : (1u << slots_) - 1;
     std::fill(where_.begin(), where_.end(), -1);
   }
 
@@ -229,21 +230,26 @@ class Emitter {
     write_back(s);
     where_[c.key] = -1;
     c = Slot();
+    free_ |= 1u << s;
   }
-  bool pinned(int s) const {
-    for (int i = 0; i < npinned_; ++i)
-      if (pinned_[i] == s) return true;
-    return false;
+  void pin(int s) { pinned_ |= 1u << s; }
+  // Records slot s's next read (kNever: its value is dead, the slot free to take).
+  void set_next(int s, std::uint32_t next) {
+    slot(s).next = next;
+    if (next == kNever) {
+      free_ |= 1u << s;
+    } else {
+      free_ &= ~(1u << s);
+    }
   }
-  void pin(int s) { pinned_[npinned_++] = s; }
-  // The slot to take, not pinned by the instruction being written: an empty or dead one, else
-  // the one read furthest ahead.
+  // The slot to take, not pinned by the instruction being written: an empty or dead one (a bit
+  // mask keeps them: compiling is mostly this choice), else the one read furthest ahead.
   int victim() {
+    if (const std::uint32_t avail = free_ & ~pinned_) return std::countr_zero(avail);
     int best = -1;
     for (int s = 0; s < slots_; ++s) {
-      if (pinned(s)) continue;
+      if (pinned_ >> s & 1) continue;
       const Slot& c = slot(s);
-      if (c.key == kEmpty || c.next == kNever) return s;
       if (best < 0 || c.next > slot(best).next) best = s;
     }
     if (best < 0) {  // every register pinned: cannot happen with the counts above; refuse the tape
@@ -263,7 +269,7 @@ class Emitter {
       slot(s).key = k;
       where_[k] = s;
     }
-    slot(s).next = next;
+    set_next(s, next);
     pin(s);
     return cached(s);
   }
@@ -276,11 +282,13 @@ class Emitter {
       // The register's previous value dies here (an argument's slot is pinned, so it stays
       // intact until the instruction is written).
       slot(old) = Slot();
+      free_ |= 1u << old;
       where_[k] = -1;
     }
     const int s = victim();
     evict(s);
     slot(s) = {k, def_next_[k_], true};
+    set_next(s, def_next_[k_]);
     where_[k] = s;
     pin(s);
     return cached(s);
@@ -443,13 +451,7 @@ class Emitter {
   // its SIMD forms for the ops it vectorizes, its scalar path through grad_partials.hpp for the
   // others, which are calls here too).
 
-  void unpin(int s) {
-    for (int i = 0; i < npinned_; ++i)
-      if (pinned_[i] == s) {
-        pinned_[i] = pinned_[--npinned_];
-        return;
-      }
-  }
+  void unpin(int s) { pinned_ &= ~(1u << s); }
   int slot_of(const x86::Vec& v) const { return static_cast<int>(v.id()) - first_slot_; }
   // An argument's channel c: its cached register, or for an immediate its value in `imm_reg`
   // (c = 0) and +0 (gradients).
@@ -702,8 +704,8 @@ class Emitter {
   int slots_;  // (after first_slot_: initialized from it)
   std::vector<Slot> slot_;                  // the cache: machine registers first_slot_ and up
   std::vector<int> where_;                  // per key: its slot, or -1
-  int pinned_[16] = {};                     // slots the instruction being written reads or writes
-  int npinned_ = 0;
+  std::uint32_t pinned_ = 0;                // slots the instruction being written reads or writes
+  std::uint32_t free_ = 0;                  // slots empty or holding a dead value
   bool out_of_registers_ = false;
   std::vector<std::uint32_t> def_next_, arg_next_;
   std::size_t k_ = 0;                       // the instruction being written
