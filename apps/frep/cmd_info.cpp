@@ -4,6 +4,8 @@
 
 #include "commands.hpp"
 #include "input.hpp"
+#include "frep/eval/evaluators.hpp"
+#include "frep/eval/jit.hpp"
 #include "frep/eval/tape.hpp"
 #include "frep/expr/oracle.hpp"
 #include "frep/script/load.hpp"
@@ -29,6 +31,13 @@ void register_info(CLI::App& app) {
     fmt::print("variables: {}\n", vars.empty() ? "none" : vars.substr(0, vars.size() - 1));
     fmt::print("tape: {} instructions, {} registers, {} choices (min/max/and/or)\n", tape.code().size(),
                tape.num_registers(), tape.choice_count());
+    // The evaluator this run (and any other without FREP_BACKEND changed) uses.
+    if (std::string(default_backend().name()) == "jit" && jit_supported())
+      fmt::print("evaluator: jit ({} machine code for tapes evaluated on {}+ points; FREP_BACKEND=interp: the "
+                 "interpreter only)\n",
+                 jit_supported(JitIsa::Avx512) ? "AVX-512" : "AVX2", JitOptions{}.compile_after_points);
+    else
+      fmt::print("evaluator: interpreter ({} SIMD)\n", BatchEvaluator::target_name());
     if (m.info.lipschitz > 0)
       fmt::print("lipschitz: {:g} (|f(p) - f(q)| <= {:g} |p - q|)\n", m.info.lipschitz, m.info.lipschitz);
     if (!m.info.bounds.empty()) {

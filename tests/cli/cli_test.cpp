@@ -91,6 +91,18 @@ TEST_F(Cli, InfoOnA3DModelListsZ) {
   const RunResult r = run("info " + test::shell_quote(path("ball.vm")));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("variables: x y z"), std::string::npos) << r.out;
+  // The evaluator it would run on: the JIT by default (where the CPU runs it), else the interpreter.
+  EXPECT_NE(r.out.find("evaluator: "), std::string::npos) << r.out;
+  // (The child inherits this process's environment.)
+  ::setenv("FREP_BACKEND", "interp", 1);
+  const RunResult i = run("info " + test::shell_quote(path("ball.vm")));
+  ::setenv("FREP_BACKEND", "gpu", 1);
+  const RunResult bad = run("info " + test::shell_quote(path("ball.vm")));
+  ::unsetenv("FREP_BACKEND");
+  ASSERT_EQ(i.code, 0) << i.err;
+  EXPECT_NE(i.out.find("evaluator: interpreter"), std::string::npos) << i.out;
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.err.find("unknown evaluator backend 'gpu' (this build has: interp, jit)"), std::string::npos) << bad.err;
 }
 
 TEST_F(Cli, EvalMatchesThePointEvaluator) {
