@@ -109,21 +109,26 @@ BENCHMARK_CAPTURE(BM_BatchEval, bear, "bear.vm");
 // timing starts), over state.range(0) points a call: the JIT's gain per point, which with its
 // compile time (BM_JitCompile) gives the number of points a tape must be asked for to pay back
 // its compilation (bench/jit.sh).
-void BM_BatchOn(benchmark::State& state, const char* name, const char* backend_name) {
+template <class Evaluator, class Out>
+void BM_EvaluatorOn(benchmark::State& state, const char* name, const char* backend_name) {
   const frep::Tape* tape = load_tape(name);
   if (!tape) return state.SkipWithError("shared data not found");
   const bool jit = std::string(backend_name) == "jit";
   if (jit && !frep::jit_supported()) return state.SkipWithError("this CPU runs no JIT code");
   const auto backend = frep::make_jit_backend({.compile_after_points = 0});
-  frep::BatchEvaluator ev(jit ? *backend : frep::interpreter_backend());
+  Evaluator ev(jit ? *backend : frep::interpreter_backend());
   PointSet p = random_points(static_cast<std::size_t>(state.range(0)), true);
-  ev.eval(*tape, p.x.data(), p.y.data(), p.z.data(), p.out.data(), p.x.size());  // compiles
+  std::vector<Out> out(p.x.size());
+  ev.eval(*tape, p.x.data(), p.y.data(), p.z.data(), out.data(), p.x.size());  // compiles
   for (auto _ : state) {
-    ev.eval(*tape, p.x.data(), p.y.data(), p.z.data(), p.out.data(), p.x.size());
-    benchmark::DoNotOptimize(p.out.data());
+    ev.eval(*tape, p.x.data(), p.y.data(), p.z.data(), out.data(), p.x.size());
+    benchmark::DoNotOptimize(out.data());
   }
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * p.x.size()));
   state.counters["instructions"] = static_cast<double>(tape->code().size());
+}
+void BM_BatchOn(benchmark::State& state, const char* name, const char* backend_name) {
+  BM_EvaluatorOn<frep::BatchEvaluator, float>(state, name, backend_name);
 }
 BENCHMARK_CAPTURE(BM_BatchOn, prospero_interp, "prospero.vm", "interp")->Arg(256)->Arg(4096);
 BENCHMARK_CAPTURE(BM_BatchOn, prospero_jit, "prospero.vm", "jit")->Arg(256)->Arg(4096);
@@ -132,20 +137,7 @@ BENCHMARK_CAPTURE(BM_BatchOn, bear_jit, "bear.vm", "jit")->Arg(256)->Arg(4096);
 
 // The same for the gradient evaluator (values and three partial derivatives).
 void BM_GradOn(benchmark::State& state, const char* name, const char* backend_name) {
-  const frep::Tape* tape = load_tape(name);
-  if (!tape) return state.SkipWithError("shared data not found");
-  const bool jit = std::string(backend_name) == "jit";
-  if (jit && !frep::jit_supported()) return state.SkipWithError("this CPU runs no JIT code");
-  const auto backend = frep::make_jit_backend({.compile_after_points = 0});
-  frep::GradEvaluator ev(jit ? *backend : frep::interpreter_backend());
-  PointSet p = random_points(static_cast<std::size_t>(state.range(0)), true);
-  std::vector<frep::Grad> out(p.x.size());
-  ev.eval(*tape, p.x.data(), p.y.data(), p.z.data(), out.data(), p.x.size());  // compiles
-  for (auto _ : state) {
-    ev.eval(*tape, p.x.data(), p.y.data(), p.z.data(), out.data(), p.x.size());
-    benchmark::DoNotOptimize(out.data());
-  }
-  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * p.x.size()));
+  BM_EvaluatorOn<frep::GradEvaluator, frep::Grad>(state, name, backend_name);
 }
 BENCHMARK_CAPTURE(BM_GradOn, prospero_interp, "prospero.vm", "interp")->Arg(4096);
 BENCHMARK_CAPTURE(BM_GradOn, prospero_jit, "prospero.vm", "jit")->Arg(4096);

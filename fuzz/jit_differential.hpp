@@ -130,27 +130,22 @@ inline std::string check_case(const DiffCase& c, JitIsa isa) {
   std::vector<Grad> ga(n), gb(n);
   interp_grad.eval(t, c.xs.data(), c.ys.data(), c.zs.data(), ga.data(), n);
   gev->eval(t, c.xs.data(), c.ys.data(), c.zs.data(), gb.data(), n);
+  // What differs at point i: `what` and the two results.
+  const auto differ = [&](const std::string& what, std::size_t i, float x, float y) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, " at point %zu (%a, %a, %a): interpreter %a (0x%08x), jit %a (0x%08x)", i,
+                  static_cast<double>(c.xs[i]), static_cast<double>(c.ys[i]), static_cast<double>(c.zs[i]),
+                  static_cast<double>(x), std::bit_cast<std::uint32_t>(x), static_cast<double>(y),
+                  std::bit_cast<std::uint32_t>(y));
+    return what + buf + " on the tape" + describe(t);
+  };
   for (std::size_t i = 0; i < n; ++i) {
     const float pa[4] = {ga[i].v, ga[i].dx, ga[i].dy, ga[i].dz}, pb[4] = {gb[i].v, gb[i].dx, gb[i].dy, gb[i].dz};
     for (int k = 0; k < 4; ++k)
-      if (compared_bits(pa[k]) != compared_bits(pb[k])) {
-        char buf[220];
-        std::snprintf(buf, sizeof buf, "gradient channel %d at point %zu (%a, %a, %a): interpreter %a (0x%08x), jit %a (0x%08x)",
-                      k, i, static_cast<double>(c.xs[i]), static_cast<double>(c.ys[i]), static_cast<double>(c.zs[i]),
-                      static_cast<double>(pa[k]), std::bit_cast<std::uint32_t>(pa[k]), static_cast<double>(pb[k]),
-                      std::bit_cast<std::uint32_t>(pb[k]));
-        return std::string(buf) + " on the tape" + describe(t);
-      }
+      if (compared_bits(pa[k]) != compared_bits(pb[k])) return differ("gradient channel " + std::to_string(k), i, pa[k], pb[k]);
   }
   for (std::size_t i = 0; i < n; ++i)
-    if (compared_bits(a[i]) != compared_bits(b[i])) {
-      char buf[200];
-      std::snprintf(buf, sizeof buf, "point %zu (%a, %a, %a): interpreter %a (0x%08x), jit %a (0x%08x)", i,
-                    static_cast<double>(c.xs[i]), static_cast<double>(c.ys[i]), static_cast<double>(c.zs[i]),
-                    static_cast<double>(a[i]), std::bit_cast<std::uint32_t>(a[i]), static_cast<double>(b[i]),
-                    std::bit_cast<std::uint32_t>(b[i]));
-      return std::string(buf) + " on the tape" + describe(t);
-    }
+    if (compared_bits(a[i]) != compared_bits(b[i])) return differ("value", i, a[i], b[i]);
   return {};
 }
 

@@ -78,6 +78,7 @@ class TapeCode {
   TapeCode& operator=(const TapeCode&) = delete;
 
   int lanes() const { return cache_.lanes(); }
+  int channels() const { return channels_; }
 
   // The compiled code for `tape`, compiling it if it has now been asked for enough points; null
   // where the interpreter runs it. Called for every evaluation (the renderers' leaves included),
@@ -157,93 +158,93 @@ class TapeCode {
   std::uint64_t clock_ = 0;
 };
 
-// Runs fn over n points: whole vectors in place, the last partial one through padded copies
-// (zeros, as the interpreter pads). `out` receives channels * L floats per vector; `emit(base,
-// block, count)` stores `count` points of a block.
-template <class Emit>
-void run_vectors(jit::CompiledFn fn, int lanes, int channels, const float* xs, const float* ys, const float* zs,
-                 float* regs, LargeVector<float>& block, std::size_t n, Emit&& emit) {
-  const std::size_t L = static_cast<std::size_t>(lanes), C = static_cast<std::size_t>(channels);
-  // In pieces, so that the output block stays in cache.
-  constexpr std::size_t kPiece = 64;  // vectors
-  if (block.size() < kPiece * L * C) block.resize(kPiece * L * C);
-  const std::size_t full = n / L;
-  for (std::size_t v = 0; v < full; v += kPiece) {
-    const std::size_t count = std::min(kPiece, full - v);
-    fn(xs + v * L, ys + v * L, zs + v * L, block.data(), regs, count);
-    emit(v * L, block.data(), count * L);
+// What a JIT kernel keeps: its compiled tapes, the interpreter's kernel for the others, and
+// scratch for the generated code.
+template <class Kernel>
+struct KernelState {
+  KernelState(const JitOptions& o, bool avx512, int channels, std::unique_ptr<Kernel> interpreter)
+      : code(o, avx512, channels), fallback(std::move(interpreter)) {}
+
+  // The code to run `tape` on n points with (its scratch sized), or null where the interpreter
+  // runs it; counts the points either way.
+  jit::CompiledFn prepare(const Tape& tape, std::size_t n) {
+    const jit::CompiledFn fn = code.function_for(tape, n);
+    add(fn ? counters().points_compiled : counters().points_interpreted, n);
+    if (fn) {
+      const std::size_t need = jit::CodeCache::scratch_floats(tape, code.lanes(), code.channels());
+      if (regs.size() < need) regs.resize(need);
+    }
+    return fn;
   }
-  if (const std::size_t rest = n - full * L) {
+  // Runs fn on the last n < L points through copies padded with zeros (as the interpreter pads
+  // its chunks); its channels x L outputs land in `block`.
+  const float* run_partial(jit::CompiledFn fn, const float* xs, const float* ys, const float* zs, std::size_t n) {
     alignas(64) float px[16] = {}, py[16] = {}, pz[16] = {};
-    const std::size_t base = full * L;
-    std::memcpy(px, xs + base, rest * sizeof(float));
-    std::memcpy(py, ys + base, rest * sizeof(float));
-    std::memcpy(pz, zs + base, rest * sizeof(float));
-    fn(px, py, pz, block.data(), regs, 1);
-    emit(base, block.data(), rest);
+    std::memcpy(px, xs, n * sizeof(float));
+    std::memcpy(py, ys, n * sizeof(float));
+    std::memcpy(pz, zs, n * sizeof(float));
+    grow_block(1);
+    fn(px, py, pz, block.data(), regs.data(), 1);
+    return block.data();
   }
-}
+  void grow_block(std::size_t vectors) {
+    const std::size_t need = vectors * static_cast<std::size_t>(code.lanes() * code.channels());
+    if (block.size() < need) block.resize(need);
+  }
+
+  TapeCode code;
+  std::unique_ptr<Kernel> fallback;
+  LargeVector<float> regs, block;
+};
 
 class JitBatch final : public BatchKernel {
  public:
-  JitBatch(const JitOptions& o, bool avx512) : code_(o, avx512, 1), fallback_(interp::make_batch_kernel()) {}
+  JitBatch(const JitOptions& o, bool avx512) : s_(o, avx512, 1, interp::make_batch_kernel()) {}
 
   void eval(const Tape& tape, const float* xs, const float* ys, const float* zs, float* out, std::size_t n) override {
     if (n == 0) return;
-    const jit::CompiledFn fn = code_.function_for(tape, n);
-    if (!fn) {
-      add(counters().points_interpreted, n);
-      return fallback_->eval(tape, xs, ys, zs, out, n);
-    }
-    add(counters().points_compiled, n);
-    const std::size_t lanes = static_cast<std::size_t>(code_.lanes());
-    const std::size_t need = jit::CodeCache::scratch_floats(tape, code_.lanes(), 1);
-    if (regs_.size() < need) regs_.resize(need);
-    // Whole vectors straight into `out`; the last partial one through padded copies (zeros, as
-    // the interpreter pads its chunks).
-    const std::size_t full = n / lanes;
-    fn(xs, ys, zs, out, regs_.data(), full);
-    if (full * lanes < n)
-      run_vectors(fn, code_.lanes(), 1, xs + full * lanes, ys + full * lanes, zs + full * lanes, regs_.data(), block_,
-                  n - full * lanes, [&](std::size_t, const float* b, std::size_t count) {
-                    std::memcpy(out + full * lanes, b, count * sizeof(float));
-                  });
+    const jit::CompiledFn fn = s_.prepare(tape, n);
+    if (!fn) return s_.fallback->eval(tape, xs, ys, zs, out, n);
+    // Whole vectors straight into `out`, then the last partial one.
+    const std::size_t lanes = static_cast<std::size_t>(s_.code.lanes()), full = n / lanes * lanes;
+    fn(xs, ys, zs, out, s_.regs.data(), full / lanes);
+    if (full < n)
+      std::memcpy(out + full, s_.run_partial(fn, xs + full, ys + full, zs + full, n - full), (n - full) * sizeof(float));
   }
 
  private:
-  TapeCode code_;
-  std::unique_ptr<BatchKernel> fallback_;
-  LargeVector<float> regs_, block_;
+  KernelState<BatchKernel> s_;
 };
 
 class JitGrad final : public GradKernel {
  public:
-  JitGrad(const JitOptions& o, bool avx512) : code_(o, avx512, 4), fallback_(interp::make_grad_kernel()) {}
+  JitGrad(const JitOptions& o, bool avx512) : s_(o, avx512, 4, interp::make_grad_kernel()) {}
 
   void eval(const Tape& tape, const float* xs, const float* ys, const float* zs, Grad* out, std::size_t n) override {
     if (n == 0) return;
-    const jit::CompiledFn fn = code_.function_for(tape, n);
-    if (!fn) {
-      add(counters().points_interpreted, n);
-      return fallback_->eval(tape, xs, ys, zs, out, n);
+    const jit::CompiledFn fn = s_.prepare(tape, n);
+    if (!fn) return s_.fallback->eval(tape, xs, ys, zs, out, n);
+    // The code writes four channel vectors per vector of points: through a block of 64 vectors
+    // (it stays in cache) into Grad records.
+    const std::size_t L = static_cast<std::size_t>(s_.code.lanes()), full = n / L * L;
+    constexpr std::size_t kPiece = 64;
+    s_.grow_block(kPiece);
+    const auto store = [&](std::size_t base, const float* b, std::size_t count) {
+      for (std::size_t p = 0; p < count; ++p) {
+        const float* v = b + (p / L) * 4 * L + p % L;
+        out[base + p] = {v[0], v[L], v[2 * L], v[3 * L]};
+      }
+    };
+    for (std::size_t base = 0; base < full; base += kPiece * L) {
+      const std::size_t count = std::min(kPiece * L, full - base);
+      fn(xs + base, ys + base, zs + base, s_.block.data(), s_.regs.data(), count / L);
+      store(base, s_.block.data(), count);
     }
-    add(counters().points_compiled, n);
-    const std::size_t need = jit::CodeCache::scratch_floats(tape, code_.lanes(), 4);
-    if (regs_.size() < need) regs_.resize(need);
-    const std::size_t L = static_cast<std::size_t>(code_.lanes());
-    run_vectors(fn, code_.lanes(), 4, xs, ys, zs, regs_.data(), block_, n,
-                [&](std::size_t base, const float* b, std::size_t count) {
-                  for (std::size_t p = 0; p < count; ++p) {
-                    const float* v = b + (p / L) * 4 * L + p % L;
-                    out[base + p] = {v[0], v[L], v[2 * L], v[3 * L]};
-                  }
-                });
+    if (full < n) store(full, s_.run_partial(fn, xs + full, ys + full, zs + full, n - full), n - full);
   }
 
  private:
-  TapeCode code_;
-  std::unique_ptr<GradKernel> fallback_;
-  LargeVector<float> regs_, block_;
+  KernelState<GradKernel> s_;
 };
 
 class Jit final : public Backend {

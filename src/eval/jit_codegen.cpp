@@ -95,7 +95,13 @@ class Emitter {
     for (k_ = 0; k_ < tape.code().size(); ++k_) {
       pinned_ = 0;
       const RegInstr& ins = tape.code()[k_];
-      if (!(channels_ == 1 ? instruction(ins, regs, xp, yp, zp) : grad_instruction(ins, regs, xp, yp, zp))) {
+      if (ins.op == Op::Oracle) {  // tapes with oracles are not compiled
+        *why = "an oracle";
+        return false;
+      }
+      if (op_arity(ins.op) == 0) {
+        leaf(ins, xp, yp, zp);
+      } else if (!(channels_ == 1 ? instruction(ins, regs) : grad_instruction(ins, regs))) {
         *why = "an opcode the JIT does not know";
         return false;
       }
@@ -312,24 +318,21 @@ class Emitter {
     }
   }
 
-  bool instruction(const RegInstr& ins, const x86::Gp& regs, const x86::Gp& xp, const x86::Gp& yp, const x86::Gp& zp) {
-    const int ar = op_arity(ins.op);
-    switch (ins.op) {
-      case Op::VarX:
-      case Op::VarY:
-      case Op::VarZ: {
-        const x86::Vec d = dest(ins.out);
-        a_.vmovups(d, x86::ptr(ins.op == Op::VarX ? xp : ins.op == Op::VarY ? yp : zp));
-        return true;
-      }
-      case Op::Const: {
-        const x86::Vec d = dest(ins.out);
-        broadcast(d, ins.imm);
-        return true;
-      }
-      case Op::Oracle: return false;  // tapes with oracles are not compiled
-      default: break;
+  // A variable (its value; for gradients, the unit vector of its axis) or a constant (zero
+  // gradient), for either channel count.
+  void leaf(const RegInstr& ins, const x86::Gp& xp, const x86::Gp& yp, const x86::Gp& zp) {
+    const int axis = static_cast<int>(ins.op) - static_cast<int>(Op::VarX);  // 0, 1, 2 for variables
+    if (ins.op == Op::Const) {
+      broadcast(dest(key(ins.out, 0)), ins.imm);
+    } else {
+      a_.vmovups(dest(key(ins.out, 0)), x86::ptr(axis == 0 ? xp : axis == 1 ? yp : zp));
     }
+    for (int c = 1; c < channels_; ++c)
+      a_.vmovaps(dest(key(ins.out, c)), ins.op != Op::Const && c - 1 == axis ? one() : zero());
+  }
+
+  bool instruction(const RegInstr& ins, const x86::Gp& regs) {
+    const int ar = op_arity(ins.op);
     if (!native(ins.op)) return call_out(ins, regs, ar);
     // Arguments: cached or loaded registers, immediates broadcast into t1.
     x86::Vec p, q;
@@ -493,25 +496,8 @@ class Emitter {
     }
   }
 
-  bool grad_instruction(const RegInstr& ins, const x86::Gp& regs, const x86::Gp& xp, const x86::Gp& yp,
-                        const x86::Gp& zp) {
+  bool grad_instruction(const RegInstr& ins, const x86::Gp& regs) {
     const int ar = op_arity(ins.op);
-    switch (ins.op) {
-      case Op::VarX:
-      case Op::VarY:
-      case Op::VarZ: {
-        const int axis = static_cast<int>(ins.op) - static_cast<int>(Op::VarX);
-        a_.vmovups(dest(key(ins.out, 0)), x86::ptr(axis == 0 ? xp : axis == 1 ? yp : zp));
-        for (int c = 1; c < 4; ++c) a_.vmovaps(dest(key(ins.out, c)), c - 1 == axis ? one() : zero());
-        return true;
-      }
-      case Op::Const:
-        broadcast(dest(key(ins.out, 0)), ins.imm);
-        for (int c = 1; c < 4; ++c) a_.vmovaps(dest(key(ins.out, c)), zero());
-        return true;
-      case Op::Oracle: return false;
-      default: break;
-    }
     switch (ins.op) {
       case Op::Add: case Op::Sub: case Op::Mul: case Op::Div: case Op::Min: case Op::Max: case Op::Neg:
       case Op::Abs: case Op::Square: case Op::Sqrt:
