@@ -25,6 +25,27 @@
 #include "frep/eval/interval_batch.hpp"
 #include "frep/expr/oracle.hpp"
 
+#ifndef FREP_EVAL_INTERVAL_BATCH_ONCE
+#define FREP_EVAL_INTERVAL_BATCH_ONCE
+namespace frep {
+// What the backward pass of IntervalBatchEvaluator::simplify reads and writes.
+struct SimplifyPass {
+  const SsaInstr* in;          // the tape's SSA code
+  std::size_t n, code_size;    // its SSA and register instructions
+  std::uint16_t* live;         // per SSA instruction: boxes needing it (set for the root)
+  std::uint16_t* fin;          // per SSA instruction: boxes where its cap is finite
+  std::uint16_t* sides;        // per choice: boxes keeping only a, only b
+  float* caps;                 // per choice and box: its cap
+  const std::uint16_t* left;   // the interval pass's record, per register instruction
+  const std::uint16_t* right;
+  const std::uint16_t* fold;
+  const float* mins_end;       // just past the recorded mins' bounds
+  std::uint32_t simplifiable;  // the boxes the pass recorded for
+  std::size_t* kept;           // per box: live instructions counted, or null not to count
+};
+}  // namespace frep
+#endif
+
 HWY_BEFORE_NAMESPACE();
 namespace frep {
 namespace HWY_NAMESPACE {
@@ -241,6 +262,125 @@ std::size_t EvalBoxes(const RegInstr* code, std::size_t n, float* lo, float* hi,
   return static_cast<std::size_t>(mins - mins_begin) / (4 * L);
 }
 
+// The lanes j.. of a vector of d as a mask: those whose bit is set in `bits`.
+template <class DD>
+HWY_INLINE auto LaneMask(DD d, std::uint32_t bits, int j) {
+  const hn::RebindToUnsigned<DD> du;
+  const auto lane_bits = hn::Shl(hn::Set(du, 1u), hn::Iota(du, static_cast<std::uint32_t>(j)));
+  return hn::RebindMask(d, hn::TestBit(hn::Set(du, bits), lane_bits));
+}
+
+// The backward pass of IntervalBatchEvaluator::simplify (see there for what it computes), SIMD
+// across the boxes where caps are computed or kept.
+void SimplifyBackward(const SimplifyPass& p) {
+  constexpr int K = L;
+  const D d;
+  const SsaInstr* in = p.in;
+  std::uint16_t* live = p.live;
+  std::uint16_t* fin = p.fin;
+  float* caps = p.caps;
+  const V inf = hn::Set(d, caps::kNone);
+  const auto use_uncapped = [&](std::uint32_t j, std::uint32_t bits) {
+    fin[j] = static_cast<std::uint16_t>(fin[j] & ~bits);
+    live[j] = static_cast<std::uint16_t>(live[j] | bits);
+  };
+  // Marks j live for the boxes of `bits` with caps c[k]: kept (the largest of its caps) only
+  // where j is a min or max, the only instructions that read their cap.
+  const auto use = [&](std::uint32_t j, std::uint32_t bits, const float* c) {
+    if (!bits) return;
+    const Op op = in[j].op;
+    if (op != Op::Min && op != Op::Max) return use_uncapped(j, bits);
+    std::uint32_t finite = 0;
+    Lanes([&](D dd, int k) { finite |= Bits(dd, hn::Lt(hn::Load(dd, c + k), inf)) << k; });
+    finite &= bits;
+    const std::uint32_t lv = live[j], fn = fin[j];
+    const std::uint32_t fresh = finite & ~lv, raise = finite & lv & fn;
+    if (fresh | raise) {
+      float* slot = caps + choice_ordinal(in[j]) * K;
+      Lanes([&](D dd, int k) {
+        const V s = hn::Load(dd, slot + k), cv = hn::Load(dd, c + k);
+        hn::Store(hn::IfThenElse(LaneMask(dd, fresh, k), cv, hn::IfThenElse(LaneMask(dd, raise, k), hn::Max(s, cv), s)),
+                  dd, slot + k);
+      });
+    }
+    fin[j] = static_cast<std::uint16_t>((fn & ~(bits & ~finite)) | fresh);
+    live[j] = static_cast<std::uint16_t>(lv | bits);
+  };
+  // Passes min or max i's own caps on to j for the boxes in `bits`.
+  const auto pass = [&](std::size_t i, std::uint32_t j, std::uint32_t bits) {
+    use_uncapped(j, bits & ~static_cast<std::uint32_t>(fin[i]));
+    use(j, bits & fin[i], caps + choice_ordinal(in[i]) * K);
+  };
+  alignas(64) float cap_a[K], cap_b[K];
+  std::size_t kc = p.code_size;
+  const float* mins = p.mins_end;
+  for (std::size_t i = p.n; i-- > 0;) {
+    const SsaInstr& ins = in[i];
+    const std::uint32_t m = live[i];
+    if (ins.op == Op::Const) {
+      if (p.kept)
+        for (std::uint32_t bits = m; bits; bits &= bits - 1) ++p.kept[__builtin_ctz(bits)];
+      continue;
+    }
+    --kc;
+    if (ins.op == Op::Min && caps::min_bounds_recorded(p.left[kc], p.right[kc], p.simplifiable)) mins -= 4 * K;
+    if (!m) continue;
+    if (p.kept)
+      for (std::uint32_t bits = m; bits; bits &= bits - 1) ++p.kept[__builtin_ctz(bits)];
+    const int ar = op_arity(ins.op);
+    if (ar == 0) continue;
+    const std::uint32_t rest = m & ~static_cast<std::uint32_t>(p.fold[kc]);
+    if (ins.op == Op::Min || ins.op == Op::Max) {
+      const std::size_t o = choice_ordinal(ins);
+      std::uint32_t l = rest & p.left[kc], r = rest & p.right[kc], both = rest & ~(l | r);
+      if (ins.op == Op::Min) {
+        if (both) {
+          // caps::min_caps on every lane: which side alone is enough, else the sides' caps.
+          const float* ci = caps + o * K;
+          const std::uint32_t fi = fin[i];
+          std::uint32_t lb = 0, rb = 0;
+          Lanes([&](D dd, int k) {
+            const V c = hn::IfThenElse(LaneMask(dd, fi, k), hn::Load(dd, ci + k), inf);
+            const V alo = hn::Load(dd, mins + k), ahi = hn::Load(dd, mins + K + k);
+            const V blo = hn::Load(dd, mins + 2 * K + k), bhi = hn::Load(dd, mins + 3 * K + k);
+            // caps::upper: an unknown (NaN) interval caps nothing.
+            const V ua = hn::IfThenElse(hn::Le(alo, ahi), ahi, inf), ub = hn::IfThenElse(hn::Le(blo, bhi), bhi, inf);
+            // Caps are only compared, so Min's choice between +0 and -0 does not matter.
+            const V ca = hn::Min(c, ub), cb = hn::Min(c, ua);
+            const auto left = hn::Gt(blo, cb);
+            lb |= Bits(dd, left) << k;
+            rb |= Bits(dd, hn::AndNot(left, hn::Gt(alo, ca))) << k;
+            hn::Store(ca, dd, cap_a + k);
+            hn::Store(cb, dd, cap_b + k);
+          });
+          l |= both & lb;
+          r |= both & rb;
+          both &= ~(l | r);
+          use(ins.a, both, cap_a);
+          use(ins.b, both, cap_b);
+        }
+      } else {
+        pass(i, ins.a, both);
+        pass(i, ins.b, both);
+      }
+      pass(i, ins.a, l);
+      pass(i, ins.b, r);
+      p.sides[2 * o] = static_cast<std::uint16_t>(l);
+      p.sides[2 * o + 1] = static_cast<std::uint16_t>(r);
+    } else if (op_is_choice(ins.op)) {
+      const std::size_t o = choice_ordinal(ins);
+      const std::uint32_t l = rest & p.left[kc], r = rest & p.right[kc], both = rest & ~(l | r);
+      use_uncapped(ins.a, l | both);
+      use_uncapped(ins.b, r | both);
+      p.sides[2 * o] = static_cast<std::uint16_t>(l);
+      p.sides[2 * o + 1] = static_cast<std::uint16_t>(r);
+    } else {
+      use_uncapped(ins.a, rest);
+      if (ar == 2) use_uncapped(ins.b, rest);
+    }
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace frep
 HWY_AFTER_NAMESPACE();
@@ -248,6 +388,7 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace frep {
 HWY_EXPORT(EvalBoxes);
+HWY_EXPORT(SimplifyBackward);
 
 // Tapes up to this size are simplified into outputs sized for the whole tape (16 boxes x 4096
 // instructions x 36 bytes: 2.4 MB per level and worker at most) without counting what each box
@@ -336,100 +477,17 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
   grow_scratch(caps_, choices * kLanes);
   live_[n - 1] = static_cast<std::uint16_t>(lanes);
   fin_[n - 1] = 0;
-  std::uint16_t* live = live_.data();
-  std::uint16_t* fin = fin_.data();
-  float* caps = caps_.data();
   std::size_t kept[kLanes] = {};  // per box: live instructions, the most its tape can keep
   // Counted only where it matters: to leave out boxes keeping most of the tape, or to size the
   // outputs of big tapes; a small tape's outputs may as well be sized for all of it (counting
   // costs a loop over the boxes of every instruction).
   const bool count_kept = max_kept < 1.0 || n > kCountKeptAbove;
   if (!count_kept) std::fill(kept, kept + kLanes, n);
-  const auto use_uncapped = [&](std::uint32_t j, std::uint32_t bits) {
-    fin[j] = static_cast<std::uint16_t>(fin[j] & ~bits);
-    live[j] = static_cast<std::uint16_t>(live[j] | bits);
-  };
-  // Marks j live for box k with cap c: kept (the largest of its caps) only where j is a min or
-  // max, the only instructions that read their cap.
-  const auto use = [&](std::uint32_t j, int k, float c) {
-    const std::uint32_t bit = 1u << k;
-    const Op op = in[j].op;
-    if (!(c < caps::kNone) || (op != Op::Min && op != Op::Max)) return use_uncapped(j, bit);
-    float& slot = caps[choice_ordinal(in[j]) * kLanes + static_cast<std::size_t>(k)];
-    if (!(live[j] & bit)) {
-      slot = c;
-      fin[j] = static_cast<std::uint16_t>(fin[j] | bit);
-    } else if (fin[j] & bit) {
-      slot = std::max(slot, c);
-    }
-    live[j] = static_cast<std::uint16_t>(live[j] | bit);
-  };
-  // Passes min or max i's own caps on to j for the boxes in `bits`.
-  const auto pass = [&](std::size_t i, std::uint32_t j, std::uint32_t bits) {
-    use_uncapped(j, bits & ~static_cast<std::uint32_t>(fin[i]));
-    const float* ci = caps + choice_ordinal(in[i]) * kLanes;
-    for (std::uint32_t b = bits & fin[i]; b; b &= b - 1) {
-      const int k = __builtin_ctz(b);
-      use(j, k, ci[k]);
-    }
-  };
-  std::size_t kc = tape.code().size();
-  const float* mins = record_.mins.data() + record_.mins_count * 4 * kLanes;
-  for (std::size_t i = n; i-- > 0;) {
-    const SsaInstr& ins = in[i];
-    const std::uint32_t m = live[i];
-    if (ins.op == Op::Const) {
-      if (count_kept)
-        for (std::uint32_t bits = m; bits; bits &= bits - 1) ++kept[__builtin_ctz(bits)];
-      continue;
-    }
-    --kc;
-    if (ins.op == Op::Min && caps::min_bounds_recorded(record_.left[kc], record_.right[kc], simplifiable)) mins -= 4 * kLanes;
-    if (!m) continue;
-    if (count_kept)
-      for (std::uint32_t bits = m; bits; bits &= bits - 1) ++kept[__builtin_ctz(bits)];
-    const int ar = op_arity(ins.op);
-    if (ar == 0) continue;
-    const std::uint32_t rest = m & ~static_cast<std::uint32_t>(record_.fold[kc]);
-    if (ins.op == Op::Min || ins.op == Op::Max) {
-      const std::size_t o = choice_ordinal(ins);
-      std::uint32_t l = rest & record_.left[kc], r = rest & record_.right[kc], both = rest & ~(l | r);
-      if (ins.op == Op::Min) {
-        const float* ci = caps + o * kLanes;
-        for (std::uint32_t bits = both; bits; bits &= bits - 1) {
-          const int k = __builtin_ctz(bits);
-          const float c = fin[i] >> k & 1 ? ci[k] : caps::kNone;
-          const caps::MinCaps mc = caps::min_caps(c, mins[k], mins[kLanes + k], mins[2 * kLanes + k], mins[3 * kLanes + k]);
-          if (mc.choice == Choice::Left) {
-            l |= 1u << k;
-          } else if (mc.choice == Choice::Right) {
-            r |= 1u << k;
-          } else {
-            use(ins.a, k, mc.cap_a);
-            use(ins.b, k, mc.cap_b);
-          }
-        }
-        both &= ~(l | r);
-      } else {
-        pass(i, ins.a, both);
-        pass(i, ins.b, both);
-      }
-      pass(i, ins.a, l);
-      pass(i, ins.b, r);
-      sides_[2 * o] = static_cast<std::uint16_t>(l);
-      sides_[2 * o + 1] = static_cast<std::uint16_t>(r);
-    } else if (op_is_choice(ins.op)) {
-      const std::size_t o = choice_ordinal(ins);
-      const std::uint32_t l = rest & record_.left[kc], r = rest & record_.right[kc], both = rest & ~(l | r);
-      use_uncapped(ins.a, l | both);
-      use_uncapped(ins.b, r | both);
-      sides_[2 * o] = static_cast<std::uint16_t>(l);
-      sides_[2 * o + 1] = static_cast<std::uint16_t>(r);
-    } else {
-      use_uncapped(ins.a, rest);
-      if (ar == 2) use_uncapped(ins.b, rest);
-    }
-  }
+  const SimplifyPass pass{in, n, code_size_, live_.data(), fin_.data(), sides_.data(), caps_.data(),
+                          record_.left.data(), record_.right.data(), record_.fold.data(),
+                          record_.mins.data() + record_.mins_count * 4 * kLanes, simplifiable,
+                          count_kept ? kept : nullptr};
+  HWY_DYNAMIC_DISPATCH(SimplifyBackward)(pass);
   for (std::uint32_t bits = lanes; bits; bits &= bits - 1) {
     const int k = __builtin_ctz(bits);
     if (static_cast<double>(kept[k]) > max_kept * static_cast<double>(n)) lanes &= ~(1u << k);
@@ -446,7 +504,7 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
     if (!leaves) builders[k]->trivial_registers_up_to(kMaxTrivialIntervalRegisters);
   }
   const float* folds = record_.folds.data();
-  kc = 0;
+  std::size_t kc = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const SsaInstr& ins = in[i];
     const std::uint32_t m = live_[i] & lanes;
