@@ -151,6 +151,13 @@ class Subdivider {
   void split(Worker& w, const Tape& t, const SampleGrid& grid, int level, const IndexBox& parent, Visitor& v,
              int worker, Outs&& outs, Next&& next);
 
+  // One breadth-first level from a frontier of fewer boxes than workers: their children in
+  // groups of at most group_lanes, enough groups for every worker, settled in parallel. Returns
+  // the children left open (in the order split() would give), or visits them if they are leaves.
+  template <class Visitor>
+  std::vector<Item> split_among_workers(const std::vector<Item>& frontier, const SampleGrid& grid, int level,
+                                        int levels, Visitor& v, std::vector<Tape>& store);
+
   SubdivisionOptions options_;
   std::unique_ptr<ThreadPool> pool_;
   std::vector<std::unique_ptr<Worker>> workers_;
@@ -248,6 +255,58 @@ void Subdivider::split(Worker& w, const Tape& t, const SampleGrid& grid, int lev
         if (++count == lanes) flush();
       }
   if (count) flush();
+}
+
+template <class Visitor>
+std::vector<Subdivider::Item> Subdivider::split_among_workers(const std::vector<Item>& frontier, const SampleGrid& grid,
+                                                              int level, int levels, Visitor& v,
+                                                              std::vector<Tape>& store) {
+  const int step = options_.tiles[static_cast<std::size_t>(level)];
+  const bool last = level + 1 == levels;
+  struct Group {
+    const Tape* tape;
+    int count = 0;
+    IndexBox boxes[kLanes];
+  };
+  std::vector<Group> groups;
+  for (const Item& it : frontier) {
+    // The children in split()'s order; skipped ones dropped here, on the calling worker (0).
+    std::vector<IndexBox> children;
+    const IndexBox& p = it.box;
+    for (int z = p.lo[2]; z < p.hi[2]; z += step)
+      for (int y = p.lo[1]; y < p.hi[1]; y += step)
+        for (int x = p.lo[0]; x < p.hi[0]; x += step) {
+          const IndexBox b{{x, y, z}, {std::min(x + step, p.hi[0]), std::min(y + step, p.hi[1]), std::min(z + step, p.hi[2])}};
+          if constexpr (requires { v.skip(0, b); }) {
+            if (v.skip(0, b)) continue;
+          }
+          children.push_back(b);
+        }
+    const std::size_t share = (children.size() * frontier.size() + static_cast<std::size_t>(workers()) - 1) /
+                              static_cast<std::size_t>(workers());
+    const std::size_t lanes = std::clamp<std::size_t>(share, 1, static_cast<std::size_t>(group_lanes(*it.tape)));
+    for (std::size_t c = 0; c < children.size(); ++c) {
+      if (c % lanes == 0) groups.emplace_back().tape = it.tape;
+      Group& g = groups.back();
+      g.boxes[g.count++] = children[c];
+    }
+  }
+  if (store.size() < groups.size() * kLanes) store.resize(groups.size() * kLanes);
+  std::vector<std::vector<Item>> parts(groups.size());
+  pool_->parallel_for(static_cast<int>(groups.size()), [&](int wi, int gi) {
+    Worker& w = *workers_[static_cast<std::size_t>(wi)];
+    const Group& g = groups[static_cast<std::size_t>(gi)];
+    std::vector<Item>& out = parts[static_cast<std::size_t>(gi)];
+    settle(w, *g.tape, grid, last, g.boxes, g.count, v, wi, &store[static_cast<std::size_t>(gi) * kLanes],
+           [&](const Item& child) {
+             if (last) v.leaf(wi, *child.tape, child.box);
+             else out.push_back(child);
+           },
+           /*release=*/last);
+  });
+  std::vector<Item> open;
+  for (auto& p : parts) open.insert(open.end(), p.begin(), p.end());
+  return open;
 }
 
 template <class Visitor>
@@ -351,6 +410,14 @@ void Subdivider::run(const Tape& tape, const SampleGrid& grid, const IndexBox& r
       first[i + 1] = first[i] + (c + lanes - 1) / lanes * kLanes;
     }
     std::vector<Tape>& store = frontier_tapes_[static_cast<std::size_t>(level)];
+    if (frontier.size() < static_cast<std::size_t>(workers())) {
+      // Fewer boxes than workers (the top of the region): their children are shared out in
+      // smaller groups, so that the workers do not wait for one of them to run a group's
+      // interval pass and simplification on the whole tape alone. The boxes a group holds do
+      // not change what is computed for each.
+      frontier = split_among_workers(frontier, grid, level, levels, v, store);
+      continue;
+    }
     if (store.size() < first.back()) store.resize(first.back());
     std::vector<std::vector<Item>> parts(frontier.size());
     pool_->parallel_for(static_cast<int>(frontier.size()), [&](int wi, int i) {
