@@ -32,8 +32,8 @@ namespace frep {
 struct SimplifyPass {
   const SsaInstr* in;          // the tape's SSA code
   std::size_t n, code_size;    // its SSA and register instructions
-  std::uint16_t* live;         // per SSA instruction: boxes needing it (set for the root)
-  std::uint16_t* fin;          // per SSA instruction: boxes where its cap is finite
+  std::uint32_t* marks;        // per SSA instruction: boxes needing it (bits 0-15, set for the
+                               // root), and those of them where its cap is finite (bits 16-31)
   std::uint16_t* sides;        // per choice: boxes keeping only a, only b
   float* caps;                 // per choice and box: its cap
   const std::uint16_t* left;   // the interval pass's record, per register instruction
@@ -276,13 +276,11 @@ void SimplifyBackward(const SimplifyPass& p) {
   constexpr int K = L;
   const D d;
   const SsaInstr* in = p.in;
-  std::uint16_t* live = p.live;
-  std::uint16_t* fin = p.fin;
+  std::uint32_t* marks = p.marks;
   float* caps = p.caps;
   const V inf = hn::Set(d, caps::kNone);
   const auto use_uncapped = [&](std::uint32_t j, std::uint32_t bits) {
-    fin[j] = static_cast<std::uint16_t>(fin[j] & ~bits);
-    live[j] = static_cast<std::uint16_t>(live[j] | bits);
+    marks[j] = (marks[j] | bits) & ~(bits << 16);
   };
   // Marks j live for the boxes of `bits` with caps c[k]: kept (the largest of its caps) only
   // where j is a min or max, the only instructions that read their cap.
@@ -293,7 +291,7 @@ void SimplifyBackward(const SimplifyPass& p) {
     std::uint32_t finite = 0;
     Lanes([&](D dd, int k) { finite |= Bits(dd, hn::Lt(hn::Load(dd, c + k), inf)) << k; });
     finite &= bits;
-    const std::uint32_t lv = live[j], fn = fin[j];
+    const std::uint32_t lv = marks[j] & 0xFFFF, fn = marks[j] >> 16;
     const std::uint32_t fresh = finite & ~lv, raise = finite & lv & fn;
     if (fresh | raise) {
       float* slot = caps + choice_ordinal(in[j]) * K;
@@ -303,20 +301,20 @@ void SimplifyBackward(const SimplifyPass& p) {
                   dd, slot + k);
       });
     }
-    fin[j] = static_cast<std::uint16_t>((fn & ~(bits & ~finite)) | fresh);
-    live[j] = static_cast<std::uint16_t>(lv | bits);
+    marks[j] = (lv | bits) | ((fn & ~(bits & ~finite)) | fresh) << 16;
   };
   // Passes min or max i's own caps on to j for the boxes in `bits`.
   const auto pass = [&](std::size_t i, std::uint32_t j, std::uint32_t bits) {
-    use_uncapped(j, bits & ~static_cast<std::uint32_t>(fin[i]));
-    use(j, bits & fin[i], caps + choice_ordinal(in[i]) * K);
+    const std::uint32_t fi = marks[i] >> 16;
+    use_uncapped(j, bits & ~fi);
+    use(j, bits & fi, caps + choice_ordinal(in[i]) * K);
   };
   alignas(64) float cap_a[K], cap_b[K];
   std::size_t kc = p.code_size;
   const float* mins = p.mins_end;
   for (std::size_t i = p.n; i-- > 0;) {
     const SsaInstr& ins = in[i];
-    const std::uint32_t m = live[i];
+    const std::uint32_t m = marks[i] & 0xFFFF;
     if (ins.op == Op::Const) {
       if (p.kept)
         for (std::uint32_t bits = m; bits; bits &= bits - 1) ++p.kept[__builtin_ctz(bits)];
@@ -337,7 +335,7 @@ void SimplifyBackward(const SimplifyPass& p) {
         if (both) {
           // caps::min_caps on every lane: which side alone is enough, else the sides' caps.
           const float* ci = caps + o * K;
-          const std::uint32_t fi = fin[i];
+          const std::uint32_t fi = marks[i] >> 16;
           std::uint32_t lb = 0, rb = 0;
           Lanes([&](D dd, int k) {
             const V c = hn::IfThenElse(LaneMask(dd, fi, k), hn::Load(dd, ci + k), inf);
@@ -465,25 +463,23 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
   if (!lanes) return 0;
   const SsaInstr* in = tape.ssa().data();
   const std::size_t choices = tape.choice_count();
-  // Backward pass for all boxes at once: live_[i] has a bit for each box that needs SSA
-  // instruction i; fin_[i] a bit for each of those where its cap (eval/caps.hpp) is finite. Caps
-  // are only read at min and max, so they are kept per choice (the choice's ordinal, from the
-  // tape), as are the sides a choice keeps. Register code has one instruction per SSA
+  // Backward pass for all boxes at once: marks_[i] has a bit for each box that needs SSA
+  // instruction i, and one (16 bits up) for each of those where its cap (eval/caps.hpp) is
+  // finite. Caps are only read at min and max, so they are kept per choice (the choice's ordinal,
+  // from the tape), as are the sides a choice keeps. Register code has one instruction per SSA
   // instruction that is not a constant, in the same order: `kc` walks it alongside.
-  grow_scratch(live_, n);
-  std::fill(live_.begin(), live_.begin() + static_cast<std::ptrdiff_t>(n), std::uint16_t{0});
-  grow_scratch(fin_, n);
+  grow_scratch(marks_, n);
+  std::fill(marks_.begin(), marks_.begin() + static_cast<std::ptrdiff_t>(n), 0u);
   grow_scratch(sides_, 2 * choices);
   grow_scratch(caps_, choices * kLanes);
-  live_[n - 1] = static_cast<std::uint16_t>(lanes);
-  fin_[n - 1] = 0;
+  marks_[n - 1] = lanes;
   std::size_t kept[kLanes] = {};  // per box: live instructions, the most its tape can keep
   // Counted only where it matters: to leave out boxes keeping most of the tape, or to size the
   // outputs of big tapes; a small tape's outputs may as well be sized for all of it (counting
   // costs a loop over the boxes of every instruction).
   const bool count_kept = max_kept < 1.0 || n > kCountKeptAbove;
   if (!count_kept) std::fill(kept, kept + kLanes, n);
-  const SimplifyPass pass{in, n, code_size_, live_.data(), fin_.data(), sides_.data(), caps_.data(),
+  const SimplifyPass pass{in, n, code_size_, marks_.data(), sides_.data(), caps_.data(),
                           record_.left.data(), record_.right.data(), record_.fold.data(),
                           record_.mins.data() + record_.mins_count * 4 * kLanes, simplifiable,
                           count_kept ? kept : nullptr};
@@ -507,7 +503,7 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
   std::size_t kc = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const SsaInstr& ins = in[i];
-    const std::uint32_t m = live_[i] & lanes;
+    const std::uint32_t m = marks_[i] & lanes;
     if (ins.op == Op::Const) {
       for (std::uint32_t bits = m; bits; bits &= bits - 1) builders[__builtin_ctz(bits)]->keep(i, ins);
       continue;

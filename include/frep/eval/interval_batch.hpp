@@ -54,7 +54,7 @@ class IntervalBatchEvaluator {
   std::size_t code_size_ = 0;  // and its register instructions
   int simplified_ = 0;         // boxes of the last eval that simplify may take
   // Scratch for simplify.
-  LargeVector<std::uint16_t> live_, fin_;  // per SSA instruction: boxes needing it, boxes where it has a cap
+  LargeVector<std::uint32_t> marks_;       // per SSA instruction: boxes needing it, and (16 bits up) where it has a cap
   LargeVector<std::uint16_t> sides_;       // per choice: boxes keeping only a, only b
   LargeVector<float> caps_;                // per choice and box: its cap
   LargeVector<std::uint32_t> remap_;       // per SSA instruction and box built: its index in that box's tape
