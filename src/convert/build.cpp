@@ -148,7 +148,9 @@ NodeId ExprBuilder::edge_term(const EdgeTerm& e) {
   const Vec3 bf{static_cast<float>(b.x), static_cast<float>(b.y), static_cast<float>(b.z)};
   const Vec3 d = bf - af;
   const double l2 = length2(d);
-  FREP_ASSERT(l2 > 0, "crease edge of zero length");
+  // Both ends round to one f32 point (repair can make vertices closer than floats tell apart):
+  // as f32 sees it, the segment is that point.
+  if (!(l2 > 0)) return vertex_d2(e.a);
   const auto& pa = offset(e.a);
   // Position along the edge as s = t |d_m| (t in [0, 1] on the segment, d_m d's largest
   // component), so that the step per unit of s, d / |d_m|, is exactly +-1 along axis m.

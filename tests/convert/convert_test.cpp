@@ -112,6 +112,34 @@ TEST(Convert, WeldToleranceClosesCracks) {
   EXPECT_EQ(message_of(cracked, o), "");
 }
 
+// A cube with its corner (1, 1, 1) cut off by a triangle 1e-9 across: its three corners are
+// distinct in double but one point in f32, and so are the ends of the crease edges between
+// them (repair makes such vertices where it cuts near an existing one). The converter takes
+// each such edge as that point, and the result is as exact as for the plain cube.
+TEST(Convert, CreaseEdgesShorterThanFloatsResolveAreTheirPoint) {
+  const double e = 1e-9;
+  TriMesh m;
+  // Corners 0-6 of the unit cube except (1, 1, 1); 7-9 cut it: (1-e,1,1), (1,1-e,1), (1,1,1-e).
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1},
+                {1 - e, 1, 1}, {1, 1 - e, 1}, {1, 1, 1 - e}};
+  const std::uint32_t faces[][3] = {
+      {0, 2, 3}, {0, 3, 1},                         // z = 0
+      {0, 1, 5}, {0, 5, 4},                         // y = 0
+      {0, 4, 6}, {0, 6, 2},                         // x = 0
+      {4, 5, 8}, {4, 8, 7}, {4, 7, 6},              // z = 1 without the corner
+      {2, 6, 7}, {2, 7, 9}, {2, 9, 3},              // y = 1
+      {1, 3, 9}, {1, 9, 8}, {1, 8, 5},              // x = 1
+      {7, 8, 9}};                                   // the cut
+  for (std::uint32_t t = 0; t < std::size(faces); ++t) m.add_triangle(faces[t][0], faces[t][1], faces[t][2], t, 0);
+  ASSERT_TRUE(validate_mesh(m).is_solid());
+  const ConvertResult r = convert_mesh(m);
+  const test::Samples s = test::sample_around(m, 500, 500, 200);
+  const test::Accuracy a = test::measure(r.model, m, s);
+  EXPECT_EQ(a.nonfinite, 0u);
+  EXPECT_LE(a.max_error, 1e-6) << a.worst;
+  EXPECT_EQ(a.sign_errors, 0u);
+}
+
 // |grad| = 1 within 1e-3 off the surface (both sides; face, edge and vertex regions), finite on it.
 TEST(Convert, GradientsAreUnitOffTheSurfaceAndFiniteOnIt) {
   const TriMesh box = test::make_box({-1, -1, -1}, {1, 1, 1});
