@@ -172,7 +172,9 @@ TEST(SliceCli, ScaleAndAWrongLipschitzBound) {
   // A bound far too small is the user's mistake, said as such (not an internal error).
   r = run_frep(d, "slice " + in + " -o " + out + " --lipschitz 0.05");
   EXPECT_NE(r.code, 3) << r.err;
-  if (r.code != 0) EXPECT_NE(r.err.find("--lipschitz"), std::string::npos) << r.err;
+  if (r.code != 0) {
+    EXPECT_NE(r.err.find("--lipschitz"), std::string::npos) << r.err;
+  }
   r = run_frep(d, "slice " + in + " -o " + shell_quote(d.path("l.svg")) + " --svg-layers 5abc");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("expected N or FIRST-LAST"), std::string::npos) << r.err;
