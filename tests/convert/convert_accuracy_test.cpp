@@ -39,7 +39,8 @@ const char* const kBeyondTetGen[] = {"menger_sponge_l3.obj", "thingi10k_73416.st
 double documented_max_error(const std::string& file) { return file == "tet_sliver.ply" ? 2.5e-6 : 2e-7; }
 
 // docs/convert.md, "Cost per triangle" (and the README's 76 on armadillo, 24 on tray_bottom):
-// nodes per triangle {pseudonormal, tets}, to the table's one decimal; 0 where it states none.
+// nodes per triangle {pseudonormal, tets}, as measured (the table rounds them to one decimal);
+// 0 where it states none.
 const std::map<std::string, std::pair<double, double>> kDocumentedNodesPerTriangle = {
     {"armadillo_libigl.obj", {76.35, 104.25}}, {"fandisk.obj", {52.23, 77.28}},
     {"plate_holes.stl", {39.6, 59.0}},       {"tray_bottom_ascii.stl", {24.4, 24.6}},

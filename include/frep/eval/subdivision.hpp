@@ -138,15 +138,15 @@ class Subdivider {
     const Tape* tape;  // valid inside box
   };
 
-  // Splits `parent` (valid tape `t`) into boxes of level `level`, 16 at a time: one interval pass
-  // settles them or not, one shared pass simplifies `t` for the others into outs(group), and
-  // next(child) receives each unsettled child.
   // Evaluates `count` boxes of one level on `t` (valid in all of them) in one interval pass,
   // simplifies `t` for those not settled into dst[k], and passes each to next(child). With
   // `release`, next() is done with a child when it returns, and big children's tapes go back.
   template <class Visitor, class Next>
   void settle(Worker& w, const Tape& t, const SampleGrid& grid, bool last, const IndexBox* boxes, int count,
               Visitor& v, int worker, Tape* dst, Next&& next, bool release = true);
+  // Splits `parent` (valid tape `t`) into boxes of level `level`, 16 at a time: one interval pass
+  // settles them or not, one shared pass simplifies `t` for the others into outs(group), and
+  // next(child) receives each unsettled child.
   template <class Visitor, class Outs, class Next>
   void split(Worker& w, const Tape& t, const SampleGrid& grid, int level, const IndexBox& parent, Visitor& v,
              int worker, Outs&& outs, Next&& next);
@@ -399,6 +399,15 @@ void Subdivider::run(const Tape& tape, const SampleGrid& grid, const IndexBox& r
   std::vector<Item> frontier{{region, &tape}};
   int level = 0;  // after the loop: the number of levels expanded breadth first
   for (; level < levels && (level < asked || frontier.size() < enough); ++level) {
+    std::vector<Tape>& store = frontier_tapes_[static_cast<std::size_t>(level)];
+    if (frontier.size() < static_cast<std::size_t>(workers())) {
+      // Fewer boxes than workers (the top of the region): their children are shared out in
+      // smaller groups, so that the workers do not wait for one of them to run a group's
+      // interval pass and simplification on the whole tape alone. The boxes a group holds do
+      // not change what is computed for each.
+      frontier = split_among_workers(frontier, grid, level, levels, v, store);
+      continue;
+    }
     const int step = options_.tiles[static_cast<std::size_t>(level)];
     // Tape slots per frontier box: kLanes per group of children.
     std::vector<std::size_t> first(frontier.size() + 1, 0);
@@ -408,15 +417,6 @@ void Subdivider::run(const Tape& tape, const SampleGrid& grid, const IndexBox& r
       for (int a = 0; a < 3; ++a) c *= static_cast<std::size_t>((it.box.extent(a) + step - 1) / step);
       const std::size_t lanes = static_cast<std::size_t>(group_lanes(*it.tape));
       first[i + 1] = first[i] + (c + lanes - 1) / lanes * kLanes;
-    }
-    std::vector<Tape>& store = frontier_tapes_[static_cast<std::size_t>(level)];
-    if (frontier.size() < static_cast<std::size_t>(workers())) {
-      // Fewer boxes than workers (the top of the region): their children are shared out in
-      // smaller groups, so that the workers do not wait for one of them to run a group's
-      // interval pass and simplification on the whole tape alone. The boxes a group holds do
-      // not change what is computed for each.
-      frontier = split_among_workers(frontier, grid, level, levels, v, store);
-      continue;
     }
     if (store.size() < first.back()) store.resize(first.back());
     std::vector<std::vector<Item>> parts(frontier.size());
