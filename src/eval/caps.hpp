@@ -1,5 +1,7 @@
 // Upper caps for simplification (private to the evaluation code), shared by single-box and
-// 16-box simplification so both make the same choices.
+// 16-box simplification so both make the same choices. (The 16-box backward pass,
+// SimplifyBackward in interval_batch.cpp, computes min_caps and upper in SIMD across its boxes:
+// a change here must be made there too; the IntervalBatch tests compare the two tape for tape.)
 //
 // An instruction's cap C over a box says: the root does not change if the instruction's value is
 // replaced by any value that equals it wherever it is <= C and stays > C wherever it is > C. The

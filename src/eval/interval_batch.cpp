@@ -315,16 +315,12 @@ void SimplifyBackward(const SimplifyPass& p) {
   for (std::size_t i = p.n; i-- > 0;) {
     const SsaInstr& ins = in[i];
     const std::uint32_t m = marks[i] & 0xFFFF;
-    if (ins.op == Op::Const) {
-      if (p.kept)
-        for (std::uint32_t bits = m; bits; bits &= bits - 1) ++p.kept[__builtin_ctz(bits)];
-      continue;
-    }
+    if (p.kept)
+      for (std::uint32_t bits = m; bits; bits &= bits - 1) ++p.kept[__builtin_ctz(bits)];
+    if (ins.op == Op::Const) continue;
     --kc;
     if (ins.op == Op::Min && caps::min_bounds_recorded(p.left[kc], p.right[kc], p.simplifiable)) mins -= 4 * K;
     if (!m) continue;
-    if (p.kept)
-      for (std::uint32_t bits = m; bits; bits &= bits - 1) ++p.kept[__builtin_ctz(bits)];
     const int ar = op_arity(ins.op);
     if (ar == 0) continue;
     const std::uint32_t rest = m & ~static_cast<std::uint32_t>(p.fold[kc]);

@@ -144,6 +144,16 @@ class Subdivider {
   template <class Visitor, class Next>
   void settle(Worker& w, const Tape& t, const SampleGrid& grid, bool last, const IndexBox* boxes, int count,
               Visitor& v, int worker, Tape* dst, Next&& next, bool release = true);
+  // Calls f(child) for each box of edge `step` (the last ones cut at the parent's end) that
+  // splits `parent`: x fastest, then y, then z.
+  template <class F>
+  static void for_each_child(const IndexBox& parent, int step, F&& f) {
+    for (int z = parent.lo[2]; z < parent.hi[2]; z += step)
+      for (int y = parent.lo[1]; y < parent.hi[1]; y += step)
+        for (int x = parent.lo[0]; x < parent.hi[0]; x += step)
+          f(IndexBox{{x, y, z},
+                     {std::min(x + step, parent.hi[0]), std::min(y + step, parent.hi[1]), std::min(z + step, parent.hi[2])}});
+  }
   // Splits `parent` (valid tape `t`) into boxes of level `level`, 16 at a time: one interval pass
   // settles them or not, one shared pass simplifies `t` for the others into outs(group), and
   // next(child) receives each unsettled child.
@@ -243,17 +253,13 @@ void Subdivider::split(Worker& w, const Tape& t, const SampleGrid& grid, int lev
     count = 0;
     ++group;
   };
-  for (int z = parent.lo[2]; z < parent.hi[2]; z += step)
-    for (int y = parent.lo[1]; y < parent.hi[1]; y += step)
-      for (int x = parent.lo[0]; x < parent.hi[0]; x += step) {
-        IndexBox& b = boxes[count];
-        b.lo = {x, y, z};
-        b.hi = {std::min(x + step, parent.hi[0]), std::min(y + step, parent.hi[1]), std::min(z + step, parent.hi[2])};
-        if constexpr (requires { v.skip(worker, b); }) {
-          if (v.skip(worker, b)) continue;
-        }
-        if (++count == lanes) flush();
-      }
+  for_each_child(parent, step, [&](const IndexBox& b) {
+    if constexpr (requires { v.skip(worker, b); }) {
+      if (v.skip(worker, b)) return;
+    }
+    boxes[count] = b;
+    if (++count == lanes) flush();
+  });
   if (count) flush();
 }
 
@@ -272,16 +278,12 @@ std::vector<Subdivider::Item> Subdivider::split_among_workers(const std::vector<
   for (const Item& it : frontier) {
     // The children in split()'s order; skipped ones dropped here, on the calling worker (0).
     std::vector<IndexBox> children;
-    const IndexBox& p = it.box;
-    for (int z = p.lo[2]; z < p.hi[2]; z += step)
-      for (int y = p.lo[1]; y < p.hi[1]; y += step)
-        for (int x = p.lo[0]; x < p.hi[0]; x += step) {
-          const IndexBox b{{x, y, z}, {std::min(x + step, p.hi[0]), std::min(y + step, p.hi[1]), std::min(z + step, p.hi[2])}};
-          if constexpr (requires { v.skip(0, b); }) {
-            if (v.skip(0, b)) continue;
-          }
-          children.push_back(b);
-        }
+    for_each_child(it.box, step, [&](const IndexBox& b) {
+      if constexpr (requires { v.skip(0, b); }) {
+        if (v.skip(0, b)) return;
+      }
+      children.push_back(b);
+    });
     const std::size_t share = (children.size() * frontier.size() + static_cast<std::size_t>(workers()) - 1) /
                               static_cast<std::size_t>(workers());
     const std::size_t lanes = std::clamp<std::size_t>(share, 1, static_cast<std::size_t>(group_lanes(*it.tape)));
@@ -342,10 +344,7 @@ void Subdivider::run(const Tape& tape, const SampleGrid& grid, const IndexBox& r
       const int step = options_.tiles[static_cast<std::size_t>(++start)];
       std::vector<IndexBox> next;
       for (const IndexBox& p : top)
-        for (int z = p.lo[2]; z < p.hi[2]; z += step)
-          for (int y = p.lo[1]; y < p.hi[1]; y += step)
-            for (int x = p.lo[0]; x < p.hi[0]; x += step)
-              next.push_back({{x, y, z}, {std::min(x + step, p.hi[0]), std::min(y + step, p.hi[1]), std::min(z + step, p.hi[2])}});
+        for_each_child(p, step, [&](const IndexBox& b) { next.push_back(b); });
       top = std::move(next);
     }
     // The top boxes in groups, each group in one interval pass on the whole tape; then the open
