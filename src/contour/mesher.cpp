@@ -338,6 +338,7 @@ void simplify_output(const Tape& tape, const MeshOptions& o, TriMesh& mesh, Mesh
   const auto t0 = Clock::now();
   SimplifyOptions so;
   so.cell_size = st.cell_size;
+  so.threads = o.threads;
   so.max_error = o.max_error_in_cells ? o.max_error * st.cell_size : o.max_error;
   st.max_error = so.max_error;
   st.triangles_before_simplify = mesh.triangles.size();

@@ -12,6 +12,7 @@
 
 #include "frep/eval/evaluators.hpp"
 #include "frep/mesh/tri_tri.hpp"
+#include "frep/util/thread_pool.hpp"
 #include "util/union_find.hpp"
 
 namespace frep::contour {
@@ -57,51 +58,55 @@ double quality(const Vec3& p, const Vec3& q, const Vec3& r) {
   return e > 0 ? 2 * std::sqrt(3.0) * length(cross(q - p, r - p)) / e : 0;
 }
 
+// What one Simplifier works on: a whole mesh, or one region of it with the triangles around it.
+struct Part {
+  std::vector<Vec3> P;
+  std::vector<Triangle> T;
+  std::vector<double> scale;         // per vertex: min(1, |grad f|), which scales E into a bound on |f|
+  std::vector<Quadric> Q;            // per vertex: its quadric
+  std::vector<std::uint32_t> shell;  // per vertex: its shell's index into `volume`
+  std::vector<double> volume;        // per shell: signed volume
+  // Per shell: the most total |volume change| allowed here (a shell other regions change too), or
+  // infinite (only its sign is kept).
+  std::vector<double> budget;
+  std::vector<char> frozen;  // per vertex: never removed nor collapsed onto (its star is not all here)
+  std::vector<char> seed;    // per vertex: its edges are queued at the start; empty: every edge
+};
+
 class Simplifier {
  public:
-  Simplifier(const TriMesh& m, const Tape& tape, const SimplifyOptions& o)
-      : P_(m.vertices), T_(m.triangles), tape_(tape), E_(o.max_error), cell_(o.cell_size) {
+  Simplifier(Part&& part, const Tape& tape, double max_error, double cell)
+      : P_(std::move(part.P)), T_(std::move(part.T)), tape_(tape), E_(max_error), cell_(cell),
+        scale_(std::move(part.scale)), Q_(std::move(part.Q)), frozen_(std::move(part.frozen)),
+        shell_(std::move(part.shell)), volume_(std::move(part.volume)), budget_(std::move(part.budget)) {
     alive_.assign(T_.size(), 1);
     vdead_.assign(P_.size(), 0);
     vtris_.resize(P_.size());
-    Q_.resize(P_.size());
     version_.assign(P_.size(), 0);
     mark_.assign(T_.size(), 0);
     held_.assign(T_.size(), INFINITY);
+    pending_.assign(P_.size(), 0);
+    spent_.assign(volume_.size(), 0);
     hash_size_ = 4 * cell_;
-    E_ = o.max_error;
-    gradient_scales(m.vertices);
+    xs_.clear(), ys_.clear(), zs_.clear();
+    for (const Vec3& p : P_)
+      xs_.push_back(static_cast<float>(p.x)), ys_.push_back(static_cast<float>(p.y)), zs_.push_back(static_cast<float>(p.z));
+    fvertex_.resize(P_.size());
+    if (!P_.empty()) eval_.eval(tape_, xs_.data(), ys_.data(), zs_.data(), fvertex_.data(), P_.size());
     for (std::uint32_t t = 0; t < T_.size(); ++t) {
-      const Triangle& tr = T_[t];
-      for (int k = 0; k < 3; ++k) vtris_[tr[k]].push_back(t);
-      const Vec3 n2 = cross(P_[tr[1]] - P_[tr[0]], P_[tr[2]] - P_[tr[0]]);
-      const double len = length(n2);
-      if (len > 0) {
-        const Vec3 n = n2 / len;
-        for (int k = 0; k < 3; ++k) Q_[tr[k]].add_plane(n, -dot(n, P_[tr[0]]), 0.5 * len);
-      }
+      for (int k = 0; k < 3; ++k) vtris_[T_[t][k]].push_back(t);
       hash_insert(t);
-    }
-    // Shells (connected components) and their signed volumes, relative to each shell's first
-    // vertex: a collapse never turns a shell inside out, which a tiny cavity (a tetrahedron of
-    // volume 1e-12) would otherwise undergo while each of its triangles turns less than the
-    // flip check allows.
-    UnionFind shells(P_.size());
-    for (const Triangle& tr : T_) shells.unite(tr[0], tr[1]), shells.unite(tr[0], tr[2]);
-    shell_ = std::move(shells).roots();
-    volume_.assign(P_.size(), 0);
-    for (const Triangle& tr : T_) {
-      const Vec3 o = P_[shell_[tr[0]]];
-      volume_[shell_[tr[0]]] += dot(P_[tr[0]] - o, cross(P_[tr[1]] - o, P_[tr[2]] - o)) / 6;
     }
     for (std::uint32_t t = 0; t < T_.size(); ++t)
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t a = T_[t][k], b = T_[t][(k + 1) % 3];
-        if (a < b) push(a, b), push(b, a);  // each edge once (the other triangle has b -> a)
+        if (a > b) continue;  // each edge once (the other triangle has b -> a)
+        if (!part.seed.empty() && !part.seed[a] && !part.seed[b]) continue;
+        push(a, b), push(b, a);
       }
   }
 
-  TriMesh run(SimplifyReport& rep) {
+  void run(SimplifyReport& rep) {
     while (!heap_.empty()) {
       const Candidate c = heap_.top();
       heap_.pop();
@@ -112,23 +117,39 @@ class Simplifier {
       }
       ++rep.collapses;
     }
-    return compact();
   }
+
+  // After run: the triangles, whether each is still there, the vertices' quadrics, and the
+  // vertices with collapses left to try: frozen ones with an edge never tried, and both ends of
+  // collapses refused only for the volume budget.
+  const std::vector<Triangle>& triangles() const { return T_; }
+  bool alive(std::uint32_t t) const { return alive_[t]; }
+  const Quadric& quadric(std::uint32_t v) const { return Q_[v]; }
+  bool pending(std::uint32_t v) const { return pending_[v]; }
 
  private:
   std::vector<Vec3> P_;
   std::vector<Triangle> T_;
   const Tape& tape_;
   double E_, cell_, hash_size_;
-  std::vector<char> alive_, vdead_;
-  std::vector<double> scale_;  // per vertex: min(1, |grad f|), which scales E into a bound on |f|
-  std::vector<std::vector<std::uint32_t>> vtris_;
+  std::vector<double> scale_;  // as Part
   std::vector<Quadric> Q_;
+  std::vector<char> frozen_;
+  std::vector<std::uint32_t> shell_;
+  std::vector<double> volume_, budget_;
+  std::vector<double> spent_;  // per shell: total |volume change| so far
+  std::vector<char> alive_, vdead_, pending_;
+  std::vector<std::vector<std::uint32_t>> vtris_;
   std::vector<std::uint32_t> version_, mark_;
-  std::vector<std::uint32_t> shell_;  // per vertex: its shell (the smallest vertex index in it)
-  std::vector<double> volume_;        // per shell (at its index): signed volume
   std::vector<double> held_;          // per triangle: the bound on |f| its samples were checked to hold (infinite: never checked)
   std::vector<std::pair<Triangle, double>> checks_;  // triangles to sample, with their limits
+  struct EdgeCheck {
+    std::uint32_t a, b;  // a < b
+    int n;               // sample intervals along it
+    double limit;
+  };
+  std::vector<EdgeCheck> edges_;  // the listed triangles' edges (triangles_within)
+  std::vector<float> fvertex_;    // per vertex: f there
   std::uint32_t stamp_ = 0;
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> heap_;
   // Spatial hash: per cell, entries (triangle << 32 | its version when inserted). A triangle that
@@ -139,32 +160,11 @@ class Simplifier {
   std::vector<float> xs_, ys_, zs_, out_;
   std::vector<double> limit_;  // per sample: the bound on |f| of its triangle
 
-  // E is a distance, the check is on |f|: where a field is flatter than a distance (|grad f| < 1;
-  // a scaled sphere) triangles could stray E / |grad f|. So a triangle's bound on |f| is E times
-  // the smallest min(1, |grad f|) at its corners, by central differences a twentieth of a cell
-  // wide (across a crease they underestimate it, to about 0.7: the bound only gets stricter).
-  void gradient_scales(const std::vector<Vec3>& vs) {
-    const double h = 0.05 * cell_;
-    xs_.clear(), ys_.clear(), zs_.clear();
-    for (const Vec3& p : vs)
-      for (int a = 0; a < 3; ++a)
-        for (double sgn : {-1.0, 1.0}) {
-          Vec3 q = p;
-          q[a] += sgn * h;
-          xs_.push_back(static_cast<float>(q.x)), ys_.push_back(static_cast<float>(q.y)), zs_.push_back(static_cast<float>(q.z));
-        }
-    out_.resize(xs_.size());
-    eval_.eval(tape_, xs_.data(), ys_.data(), zs_.data(), out_.data(), xs_.size());
-    scale_.assign(vs.size(), 0);
-    for (std::size_t i = 0; i < vs.size(); ++i) {
-      const float* f = &out_[6 * i];
-      const double gx = (f[1] - f[0]) / (2 * h), gy = (f[3] - f[2]) / (2 * h), gz = (f[5] - f[4]) / (2 * h);
-      const double g = std::sqrt(gx * gx + gy * gy + gz * gz);
-      scale_[i] = std::isfinite(g) ? std::min(1.0, g) : 0;
-    }
-  }
-
   void push(std::uint32_t u, std::uint32_t v) {
+    if (frozen_[u] || frozen_[v]) {
+      pending_[u] |= frozen_[u], pending_[v] |= frozen_[v];
+      return;
+    }
     Quadric q = Q_[u];
     q.add(Q_[v]);
     heap_.push({std::max(0.0, q.at(P_[v])), length2(P_[u] - P_[v]), u, v, version_[v]});
@@ -270,8 +270,15 @@ class Simplifier {
       change -= dot(P_[tr[0]] - o, cross(P_[tr[1]] - o, P_[tr[2]] - o)) / 6;
     }
     for (const auto& [t, nt] : moved_) change += dot(P_[nt[0]] - o, cross(P_[nt[1]] - o, P_[nt[2]] - o)) / 6;
-    const double before = volume_[shell_[v]], after = before + change;
+    const std::uint32_t shell = shell_[v];
+    const double before = volume_[shell], after = before + change;
     if (!(after != 0) || (after > 0) != (before > 0)) return false;
+    // A shell other regions change at the same time: this region's changes stay within its share
+    // of half the volume, so that together they cannot turn it inside out.
+    if (!(spent_[shell] + std::fabs(change) <= budget_[shell])) {
+      pending_[u] = pending_[v] = 1;
+      return false;
+    }
 
     // A few samples first (corners, edge midpoints, centroid): most refusals are found there,
     // before the costlier crossing test and the full grid of samples.
@@ -356,7 +363,8 @@ class Simplifier {
     vtris_[u].shrink_to_fit();
     vdead_[u] = 1;
     Q_[v].add(Q_[u]);
-    volume_[shell_[v]] = after;
+    volume_[shell] = after;
+    spent_[shell] += std::fabs(change);
     ++version_[v];
     ring(v, nbr_v_);
     for (std::uint32_t w : nbr_v_)
@@ -393,24 +401,40 @@ class Simplifier {
     return triangles_within(max_n);
   }
 
-  // |f| within each listed triangle's limit at its samples (a barycentric grid at most half a
-  // cell apart, at most `max_n` intervals along an edge, and the centroid).
+  // |f| within each listed triangle's limit at its samples: a barycentric grid at most half a
+  // cell apart (at most `max_n` intervals along an edge; its corners included) and its centroid.
+  // Corners come from the values at the vertices, and an edge two listed triangles share is
+  // sampled once, as finely as the finer grid asks and at the stricter limit.
   bool triangles_within(int max_n) {
-    xs_.clear(), ys_.clear(), zs_.clear(), limit_.clear();
+    xs_.clear(), ys_.clear(), zs_.clear(), limit_.clear(), edges_.clear();
+    auto add = [&](const Vec3& p, double limit) {
+      xs_.push_back(static_cast<float>(p.x)), ys_.push_back(static_cast<float>(p.y)), zs_.push_back(static_cast<float>(p.z));
+      limit_.push_back(limit);
+    };
+    auto intervals = [&](double length) { return std::clamp(static_cast<int>(std::ceil(length / (0.5 * cell_))), 1, max_n); };
     for (const auto& [nt, limit] : checks_) {
       const Vec3 a = P_[nt[0]], b = P_[nt[1]], c = P_[nt[2]];
-      const double longest = std::sqrt(std::max({length2(b - a), length2(c - b), length2(a - c)}));
-      const int n = std::clamp(static_cast<int>(std::ceil(longest / (0.5 * cell_))), 1, max_n);
-      for (int i = 0; i <= n; ++i)
-        for (int j = 0; i + j <= n; ++j) {
-          const double wb = double(i) / n, wc = double(j) / n;
-          const Vec3 p = a + (b - a) * wb + (c - a) * wc;
-          xs_.push_back(static_cast<float>(p.x)), ys_.push_back(static_cast<float>(p.y)), zs_.push_back(static_cast<float>(p.z));
-        }
-      const Vec3 g = (a + b + c) / 3.0;
-      xs_.push_back(static_cast<float>(g.x)), ys_.push_back(static_cast<float>(g.y)), zs_.push_back(static_cast<float>(g.z));
-      limit_.resize(xs_.size(), limit);
+      const int n = intervals(std::sqrt(std::max({length2(b - a), length2(c - b), length2(a - c)})));
+      for (int k = 0; k < 3; ++k) {
+        if (!(std::fabs(fvertex_[nt[k]]) <= limit)) return false;
+        const std::uint32_t u = nt[k], w = nt[(k + 1) % 3];
+        edges_.push_back({std::min(u, w), std::max(u, w), n, limit});
+      }
+      for (int i = 1; i < n; ++i)
+        for (int j = 1; i + j < n; ++j) add(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n), limit);
+      add((a + b + c) / 3.0, limit);
     }
+    // Each edge once, as finely as its finest triangle's grid and at its strictest limit.
+    std::sort(edges_.begin(), edges_.end(),
+              [](const EdgeCheck& x, const EdgeCheck& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+    for (std::size_t e = 0; e < edges_.size();) {
+      EdgeCheck g = edges_[e];
+      for (++e; e < edges_.size() && edges_[e].a == g.a && edges_[e].b == g.b; ++e)
+        g.n = std::max(g.n, edges_[e].n), g.limit = std::min(g.limit, edges_[e].limit);
+      const Vec3 a = P_[g.a], b = P_[g.b];
+      for (int k = 1; k < g.n; ++k) add(a + (b - a) * (double(k) / g.n), g.limit);
+    }
+    if (xs_.empty()) return true;
     out_.resize(xs_.size());
     eval_.eval(tape_, xs_.data(), ys_.data(), zs_.data(), out_.data(), xs_.size());
     for (std::size_t i = 0; i < out_.size(); ++i)
@@ -430,36 +454,301 @@ class Simplifier {
     return true;
   }
 
-  TriMesh compact() const {
-    TriMesh out;
-    std::vector<std::uint32_t> id(P_.size(), 0xffffffffu);
-    std::vector<char> used(P_.size(), 0);
-    for (std::uint32_t t = 0; t < T_.size(); ++t)
-      if (alive_[t])
-        for (int k = 0; k < 3; ++k) used[T_[t][k]] = 1;
-    for (std::uint32_t i = 0; i < P_.size(); ++i)
-      if (used[i]) {
-        id[i] = static_cast<std::uint32_t>(out.vertices.size());
-        out.vertices.push_back(P_[i]);
-      }
-    for (std::uint32_t t = 0; t < T_.size(); ++t)
-      if (alive_[t]) out.add_triangle(id[T_[t][0]], id[T_[t][1]], id[T_[t][2]]);
-    return out;
-  }
-
   std::vector<std::uint32_t> nbr_u_, nbr_v_, seen_;
   std::uint32_t qstamp_ = 0;
   std::vector<std::pair<std::uint32_t, Triangle>> moved_;
 };
 
+// Regions of the first, parallel round: cubes of this many cells.
+constexpr int kRegionCells = 32;
+
+// min(1, |grad f|) at every vertex (Part::scale). E is a distance, the check is on |f|: where a
+// field is flatter than a distance (|grad f| < 1; a scaled sphere) triangles could stray
+// E / |grad f|. So a triangle's bound on |f| is E times the smallest scale at its corners, by
+// central differences a twentieth of a cell wide (across a crease they underestimate it, to
+// about 0.7: the bound only gets stricter).
+std::vector<double> gradient_scales(const std::vector<Vec3>& vs, const Tape& tape, double cell, ThreadPool& pool) {
+  const double h = 0.05 * cell;
+  std::vector<double> scale(vs.size(), 0);
+  struct Scratch {
+    BatchEvaluator eval;
+    std::vector<float> xs, ys, zs, out;
+  };
+  std::vector<Scratch> scratch(static_cast<std::size_t>(pool.size()));
+  pool.parallel_for_ranges(vs.size(), 4096, [&](int worker, std::size_t begin, std::size_t end) {
+    Scratch& s = scratch[static_cast<std::size_t>(worker)];
+    s.xs.clear(), s.ys.clear(), s.zs.clear();
+    for (std::size_t i = begin; i < end; ++i)
+      for (int a = 0; a < 3; ++a)
+        for (double sgn : {-1.0, 1.0}) {
+          Vec3 q = vs[i];
+          q[a] += sgn * h;
+          s.xs.push_back(static_cast<float>(q.x)), s.ys.push_back(static_cast<float>(q.y)), s.zs.push_back(static_cast<float>(q.z));
+        }
+    s.out.resize(s.xs.size());
+    s.eval.eval(tape, s.xs.data(), s.ys.data(), s.zs.data(), s.out.data(), s.xs.size());
+    for (std::size_t i = begin; i < end; ++i) {
+      const float* f = &s.out[6 * (i - begin)];
+      const double gx = (f[1] - f[0]) / (2 * h), gy = (f[3] - f[2]) / (2 * h), gz = (f[5] - f[4]) / (2 * h);
+      const double g = std::sqrt(gx * gx + gy * gy + gz * gz);
+      scale[i] = std::isfinite(g) ? std::min(1.0, g) : 0;
+    }
+  });
+  return scale;
+}
+
+// Shells (connected components) of the triangles over `n` vertices: per vertex its shell's root
+// (the smallest vertex in it), and per root the shell's signed volume, relative to the root.
+void shells_of(const std::vector<Vec3>& P, const std::vector<Triangle>& T, std::vector<std::uint32_t>& root,
+               std::vector<double>& volume) {
+  UnionFind shells(P.size());
+  for (const Triangle& tr : T) shells.unite(tr[0], tr[1]), shells.unite(tr[0], tr[2]);
+  root = std::move(shells).roots();
+  volume.assign(P.size(), 0);
+  for (const Triangle& tr : T) {
+    const Vec3 o = P[root[tr[0]]];
+    volume[root[tr[0]]] += dot(P[tr[0]] - o, cross(P[tr[1]] - o, P[tr[2]] - o)) / 6;
+  }
+}
+
+// The vertices the triangles use, renumbered in their old order.
+TriMesh compact(const std::vector<Vec3>& P, const std::vector<Triangle>& T) {
+  TriMesh out;
+  std::vector<std::uint32_t> id(P.size(), 0xffffffffu);
+  for (const Triangle& tr : T)
+    for (std::uint32_t v : tr) id[v] = 0;
+  for (std::uint32_t i = 0; i < P.size(); ++i)
+    if (id[i] == 0) {
+      id[i] = static_cast<std::uint32_t>(out.vertices.size());
+      out.vertices.push_back(P[i]);
+    }
+  for (const Triangle& tr : T) out.add_triangle(id[tr[0]], id[tr[1]], id[tr[2]]);
+  return out;
+}
+
+// The regions of the first round: cubes of kRegionCells cells from the mesh's low corner. A
+// triangle whose corners lie in one region is that region's to change; the others (across
+// regions) stay as they are in the first round, and their corners are frozen.
+struct Regions {
+  double size = 0;
+  Vec3 origin;
+  std::vector<std::uint64_t> keys;          // the regions with vertices, sorted
+  std::vector<std::uint32_t> of_vertex;     // per vertex: its region (index into keys)
+  std::vector<std::vector<std::uint32_t>> inside;  // per region: its triangles
+  std::vector<std::vector<std::uint32_t>> around;  // per region: triangles across regions near it
+  std::vector<std::uint32_t> across;        // triangles across regions
+  std::vector<char> frozen;                 // per vertex: a corner of a triangle across regions
+
+  static std::uint64_t key(std::int64_t i, std::int64_t j, std::int64_t k) {
+    return static_cast<std::uint64_t>(i) << 42 | static_cast<std::uint64_t>(j) << 21 | static_cast<std::uint64_t>(k);
+  }
+  // Region coordinate of x along axis a (monotone in x, so regions along an axis never interleave).
+  std::int64_t coord(double x, int a) const {
+    return std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor((x - origin[a]) / size)), 0, (1 << 20) - 1);
+  }
+  std::int64_t find(std::uint64_t k) const {
+    const auto it = std::lower_bound(keys.begin(), keys.end(), k);
+    return it != keys.end() && *it == k ? it - keys.begin() : -1;
+  }
+
+  // Regions moved by `shift` of a region from the mesh's low corner.
+  Regions(const TriMesh& m, double cell, double shift) {
+    size = kRegionCells * cell;
+    Box3 bb;
+    for (const Vec3& p : m.vertices) bb.add(p);
+    origin = bb.lo - Vec3{1, 1, 1} * (shift * size);
+    std::vector<std::uint64_t> vkey(m.vertices.size());
+    for (std::size_t v = 0; v < m.vertices.size(); ++v) {
+      const Vec3& p = m.vertices[v];
+      vkey[v] = key(coord(p.x, 0), coord(p.y, 1), coord(p.z, 2));
+    }
+    keys = vkey;
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    of_vertex.resize(m.vertices.size());
+    for (std::size_t v = 0; v < m.vertices.size(); ++v) of_vertex[v] = static_cast<std::uint32_t>(find(vkey[v]));
+    inside.resize(keys.size());
+    around.resize(keys.size());
+    frozen.assign(m.vertices.size(), 0);
+    for (std::uint32_t t = 0; t < m.triangles.size(); ++t) {
+      const Triangle& tr = m.triangles[t];
+      const std::uint32_t r = of_vertex[tr[0]];
+      if (of_vertex[tr[1]] == r && of_vertex[tr[2]] == r) {
+        inside[r].push_back(t);
+        continue;
+      }
+      across.push_back(t);
+      for (std::uint32_t v : tr) frozen[v] = 1;
+      // Every region whose box the triangle's box meets (one region of margin for rounding):
+      // what a region changes stays inside its own box, so these are all it can run into.
+      Box3 tb;
+      for (std::uint32_t v : tr) tb.add(m.vertices[v]);
+      std::int64_t lo[3], hi[3];
+      for (int a = 0; a < 3; ++a) lo[a] = coord(tb.lo[a], a) - 1, hi[a] = coord(tb.hi[a], a) + 1;
+      for (std::int64_t i = std::max<std::int64_t>(lo[0], 0); i <= hi[0]; ++i)
+        for (std::int64_t j = std::max<std::int64_t>(lo[1], 0); j <= hi[1]; ++j)
+          for (std::int64_t k = std::max<std::int64_t>(lo[2], 0); k <= hi[2]; ++k)
+            if (const std::int64_t r2 = find(key(i, j, k)); r2 >= 0) around[static_cast<std::size_t>(r2)].push_back(t);
+    }
+  }
+  // Region r's box, with `margin` around it.
+  Box3 box(std::size_t r, double margin) const {
+    const std::uint64_t k = keys[r];
+    const double c[3] = {static_cast<double>(k >> 42), static_cast<double>(k >> 21 & 0x1fffff), static_cast<double>(k & 0x1fffff)};
+    Box3 b;
+    for (int a = 0; a < 3; ++a) b.lo[a] = origin[a] + c[a] * size - margin, b.hi[a] = origin[a] + (c[a] + 1) * size + margin;
+    return b;
+  }
+};
+
+// The triangles and per-vertex state the rounds pass on.
+struct Stage {
+  std::vector<Triangle> T;
+  std::vector<Quadric> Q;
+  std::vector<char> seed;  // vertices whose edges are to be tried; empty: all
+};
+
+// One round in parallel over regions moved by `shift` of a region: each region is simplified on
+// its own with the field's tape pruned to it; triangles across regions and their corners stay as
+// they are, and a shell that spans regions may change its volume in each by at most its share of
+// half of it. Leaves in `st.seed` the vertices with collapses left to try.
+void region_round(const std::vector<Vec3>& P, Stage& st, const std::vector<double>& scale, double shift,
+                  const Tape& tape, double E, double cell, ThreadPool& pool, SimplifyReport& rep) {
+  const std::size_t nv = P.size();
+  TriMesh m;
+  m.vertices = P;  // (Regions reads a TriMesh)
+  m.triangles = std::move(st.T);
+  std::vector<std::uint32_t> root;
+  std::vector<double> volume;
+  shells_of(m.vertices, m.triangles, root, volume);
+  const Regions regions(m, cell, shift);
+  const std::size_t nr = regions.keys.size();
+  // Per shell (at its root): how many regions it has vertices in.
+  std::vector<std::uint32_t> spans(nv, 0);
+  {
+    std::vector<std::uint64_t> pairs;
+    for (const Triangle& tr : m.triangles)
+      for (std::uint32_t v : tr) pairs.push_back(static_cast<std::uint64_t>(root[v]) << 32 | regions.of_vertex[v]);
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    for (const std::uint64_t p : pairs) ++spans[p >> 32];
+  }
+  std::vector<std::vector<Triangle>> kept(nr);
+  std::vector<char> pending(nv, 0);
+  std::vector<SimplifyReport> reps(nr);
+  struct Scratch {
+    std::vector<std::uint32_t> local;  // per vertex of the mesh: its index in the part, or ~0
+    IntervalEvaluator intervals;
+  };
+  std::vector<Scratch> scratch(static_cast<std::size_t>(pool.size()));
+  for (Scratch& s : scratch) s.local.assign(nv, ~0u);
+  pool.parallel_for(static_cast<int>(nr), [&](int worker, int item) {
+    const std::size_t r = static_cast<std::size_t>(item);
+    Scratch& s = scratch[static_cast<std::size_t>(worker)];
+    Part part;
+    std::vector<std::uint32_t> global;
+    std::vector<std::uint32_t> shells;  // roots of the part's shells
+    auto local = [&](std::uint32_t g) {
+      if (s.local[g] == ~0u) {
+        s.local[g] = static_cast<std::uint32_t>(global.size());
+        global.push_back(g);
+      }
+      return s.local[g];
+    };
+    for (const auto* list : {&regions.inside[r], &regions.around[r]})
+      for (std::uint32_t t : *list) {
+        const Triangle& tr = m.triangles[t];
+        part.T.push_back({local(tr[0]), local(tr[1]), local(tr[2])});
+      }
+    for (std::uint32_t g : global) {
+      part.P.push_back(P[g]);
+      part.scale.push_back(scale[g]);
+      part.Q.push_back(st.Q[g]);
+      part.frozen.push_back(regions.frozen[g] || regions.of_vertex[g] != r);
+      if (!st.seed.empty()) part.seed.push_back(st.seed[g]);
+      shells.push_back(root[g]);
+    }
+    std::sort(shells.begin(), shells.end());
+    shells.erase(std::unique(shells.begin(), shells.end()), shells.end());
+    for (std::uint32_t g : global)
+      part.shell.push_back(static_cast<std::uint32_t>(std::lower_bound(shells.begin(), shells.end(), root[g]) - shells.begin()));
+    for (std::uint32_t sh : shells) {
+      part.volume.push_back(volume[sh]);
+      part.budget.push_back(spans[sh] > 1 ? std::fabs(volume[sh]) / (2.0 * spans[sh]) : INFINITY);
+    }
+    // The field pruned to the region (a cell of margin: samples are rounded to f32).
+    const Box3 b = regions.box(r, cell);
+    Tape pruned;
+    s.intervals.simplify(tape, Interval{static_cast<float>(b.lo.x), static_cast<float>(b.hi.x)},
+                         Interval{static_cast<float>(b.lo.y), static_cast<float>(b.hi.y)},
+                         Interval{static_cast<float>(b.lo.z), static_cast<float>(b.hi.z)}, pruned);
+    const std::size_t n_inside = regions.inside[r].size();
+    Simplifier simp(std::move(part), pruned, E, cell);
+    simp.run(reps[r]);
+    for (std::uint32_t t = 0; t < n_inside; ++t)
+      if (simp.alive(t)) {
+        const Triangle& tr = simp.triangles()[t];
+        kept[r].push_back({global[tr[0]], global[tr[1]], global[tr[2]]});
+      }
+    // Each vertex is written by its own region only (others have it frozen, where nothing
+    // changes but a pending flag, which the region that owns it sets as well).
+    for (std::uint32_t l = 0; l < global.size(); ++l) {
+      const std::uint32_t g = global[l];
+      if (regions.of_vertex[g] == r) {
+        st.Q[g] = simp.quadric(l);
+        pending[g] = simp.pending(l);
+      }
+      s.local[g] = ~0u;
+    }
+  });
+  for (const SimplifyReport& r : reps) rep.collapses += r.collapses, rep.rejected += r.rejected;
+  st.T.clear();
+  for (const auto& k : kept) st.T.insert(st.T.end(), k.begin(), k.end());
+  for (std::uint32_t t : regions.across) st.T.push_back(m.triangles[t]);
+  st.seed = std::move(pending);
+}
+
 }  // namespace
 
+// Two rounds over regions (cubes of kRegionCells cells) in parallel, the second moved by half a
+// region so that it works across the first one's seams; then the whole mesh on one thread, from
+// the vertices the region rounds left collapses to try. The regions do not depend on the thread
+// count, so neither does the result.
 TriMesh simplify_mesh(const TriMesh& mesh, const Tape& tape, const SimplifyOptions& options, SimplifyReport* report) {
   SimplifyReport rep;
-  Simplifier s(mesh, tape, options);
-  TriMesh out = s.run(rep);
+  const double E = options.max_error, cell = options.cell_size;
+  const std::size_t nv = mesh.vertices.size();
+  ThreadPool pool(resolve_thread_count(options.threads));
+  const std::vector<double> scale = gradient_scales(mesh.vertices, tape, cell, pool);
+  Stage st;
+  st.T = mesh.triangles;
+  st.Q.resize(nv);
+  for (const Triangle& tr : mesh.triangles) {
+    const Vec3 n2 = cross(mesh.vertices[tr[1]] - mesh.vertices[tr[0]], mesh.vertices[tr[2]] - mesh.vertices[tr[0]]);
+    const double len = length(n2);
+    if (!(len > 0)) continue;
+    const Vec3 n = n2 / len;
+    for (std::uint32_t v : tr) st.Q[v].add_plane(n, -dot(n, mesh.vertices[tr[0]]), 0.5 * len);
+  }
+  for (const double shift : {0.0, 0.5}) region_round(mesh.vertices, st, scale, shift, tape, E, cell, pool, rep);
+  if (std::any_of(st.seed.begin(), st.seed.end(), [](char c) { return c != 0; })) {
+    Part whole;
+    whole.P = mesh.vertices;
+    whole.T = std::move(st.T);
+    whole.scale = scale;
+    whole.Q = std::move(st.Q);
+    shells_of(whole.P, whole.T, whole.shell, whole.volume);
+    whole.budget.assign(nv, INFINITY);
+    whole.frozen.assign(nv, 0);
+    whole.seed = std::move(st.seed);
+    Simplifier simp(std::move(whole), tape, E, cell);
+    simp.run(rep);
+    st.T.clear();
+    for (std::uint32_t t = 0; t < simp.triangles().size(); ++t)
+      if (simp.alive(t)) st.T.push_back(simp.triangles()[t]);
+  }
   if (report) *report = rep;
-  return out;
+  return compact(mesh.vertices, st.T);
 }
 
 }  // namespace frep::contour

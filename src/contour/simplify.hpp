@@ -12,7 +12,8 @@ namespace frep::contour {
 
 struct SimplifyOptions {
   double max_error = 0;  // bound on |f| over the output triangles, in model units (> 0)
-  double cell_size = 0;  // the grid's cell: sets the sample spacing and the spatial hash
+  double cell_size = 0;  // the grid's cell: sets the sample spacing, the spatial hash and the regions
+  int threads = 0;       // worker threads; 0 = all cores. The result is the same for any count.
 };
 
 struct SimplifyReport {
@@ -23,8 +24,8 @@ struct SimplifyReport {
 // Collapses edges of `mesh` (a closed, manifold, outward mesh without crossings, as the mesher
 // makes) while every check holds; returns the simplified mesh (vertices renumbered, in their old
 // order). Half-edge collapses only: every output vertex is an input vertex at its exact position,
-// so the sharp edges and corners the QEF placed stay where they were. Single-threaded, and
-// deterministic.
+// so the sharp edges and corners the QEF placed stay where they were. Regions of the mesh are
+// simplified in parallel first, then the seams between them; deterministic for any thread count.
 TriMesh simplify_mesh(const TriMesh& mesh, const Tape& tape, const SimplifyOptions& options, SimplifyReport* report);
 
 }  // namespace frep::contour
