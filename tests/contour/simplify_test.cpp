@@ -224,5 +224,41 @@ TEST(MeshSimplify, TinyCavitiesStayInward) {
   }
 }
 
+// The simplification works on cubes of the mesh in parallel, then across their seams: a shape
+// spanning many cubes, with a cavity whose inward shell spans them too, comes out the same for
+// any thread count, a valid solid with its cavity, within the bound at random points.
+TEST(MeshSimplify, RegionsGiveTheSameMeshForAnyThreadCount) {
+  Model m;
+  Graph& g = *m.graph;
+  auto x = g.x(), y = g.y(), z = g.z();
+  const Expr r = sqrt(square(x) + square(y * 1.3f) + square(z));
+  m.root = max(max(r - 0.8f, 0.65f - r), abs(z) - 0.75f).id();  // a hollow ellipsoid, capped flat
+  const Tape tape = Tape::compile(*m.graph, m.root);
+  MeshOptions o;
+  o.resolution = 120;  // about four cubes across
+  o.bounds = Box3{{-1, -1, -1}, {1, 1, 1}};
+  o.max_error = 0.25;
+  o.max_error_in_cells = true;
+  std::vector<TriMesh> outs;
+  double bound = 0;
+  for (int threads : {1, 3}) {
+    o.threads = threads;
+    MeshStats st;
+    outs.push_back(mesh_expression(tape, o, &st));
+    EXPECT_FALSE(st.simplify_rejected);
+    EXPECT_LT(outs.back().triangles.size(), st.triangles_before_simplify / 5);
+    bound = st.max_error;
+  }
+  EXPECT_EQ(outs[0].vertices, outs[1].vertices);
+  EXPECT_EQ(outs[0].triangles, outs[1].triangles);
+  o.max_error = 0;
+  const TriMesh uniform = mesh_expression(tape, o);
+  EXPECT_LE(max_abs_field(new_triangles(outs[0], uniform), tape, 4), bound * (1 + 1e-6));
+  const ValidationReport rep = validate_mesh(outs[0]);
+  EXPECT_TRUE(rep.is_solid());
+  EXPECT_EQ(rep.components, 2u);  // the outside and the cavity
+  EXPECT_FALSE(test::cgal_self_intersects(outs[0]));
+}
+
 }  // namespace
 }  // namespace frep
