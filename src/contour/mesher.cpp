@@ -334,11 +334,13 @@ TriMesh retry_while_unresolved(TriMesh mesh, const MeshPass& pass, const std::fu
 // Simplifies the finished mesh in place (MeshOptions::max_error), then validates the result as a
 // solid: collapses are checked one by one, but a solid is what frep promises, so a result that
 // fails (never seen) gives way to the uniform mesh, said in the stats.
-void simplify_output(const Tape& tape, const MeshOptions& o, TriMesh& mesh, MeshStats& st) {
+void simplify_output(const Tape& tape, const MeshOptions& o, TriMesh& mesh, MeshControl& control, MeshStats& st) {
   const auto t0 = Clock::now();
   SimplifyOptions so;
   so.cell_size = st.cell_size;
   so.threads = o.threads;
+  so.progress = [&](double f) { control.report("simplify", f); };
+  so.cancelled = [&] { return control.cancelled(); };
   so.max_error = o.max_error_in_cells ? o.max_error * st.cell_size : o.max_error;
   st.max_error = so.max_error;
   st.triangles_before_simplify = mesh.triangles.size();
@@ -389,7 +391,7 @@ TriMesh Mesher::mesh(const Tape& tape) {
   mesh = retry_while_unresolved(std::move(mesh), pass, [&] { return control.cancelled(); }, st);
   // Only a mesh without unresolved vertices is a solid to start from: the checks of every
   // collapse assume one.
-  if (o.max_error > 0 && st.unresolved == 0 && !mesh.triangles.empty()) simplify_output(tape, o, mesh, st);
+  if (o.max_error > 0 && st.unresolved == 0 && !mesh.triangles.empty()) simplify_output(tape, o, mesh, control, st);
   return mesh;
 }
 

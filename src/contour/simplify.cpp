@@ -6,10 +6,13 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
+#include <mutex>
 #include <queue>
 #include <unordered_map>
 #include <vector>
 
+#include "frep/contour/mesh_options.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/mesh/tri_tri.hpp"
 #include "frep/util/thread_pool.hpp"
@@ -612,8 +615,10 @@ struct Stage {
 // its own with the field's tape pruned to it; triangles across regions and their corners stay as
 // they are, and a shell that spans regions may change its volume in each by at most its share of
 // half of it. Leaves in `st.seed` the vertices with collapses left to try.
+// `done(r, n)` is called after each of the n regions (r of them done), one call at a time.
 void region_round(const std::vector<Vec3>& P, Stage& st, const std::vector<double>& scale, double shift,
-                  const Tape& tape, double E, double cell, ThreadPool& pool, SimplifyReport& rep) {
+                  const Tape& tape, double E, double cell, ThreadPool& pool, SimplifyReport& rep,
+                  const std::function<void(std::size_t, std::size_t)>& done) {
   const std::size_t nv = P.size();
   TriMesh m;
   m.vertices = P;  // (Regions reads a TriMesh)
@@ -642,6 +647,8 @@ void region_round(const std::vector<Vec3>& P, Stage& st, const std::vector<doubl
   };
   std::vector<Scratch> scratch(static_cast<std::size_t>(pool.size()));
   for (Scratch& s : scratch) s.local.assign(nv, ~0u);
+  std::mutex mutex;
+  std::size_t finished = 0;
   pool.parallel_for(static_cast<int>(nr), [&](int worker, int item) {
     const std::size_t r = static_cast<std::size_t>(item);
     Scratch& s = scratch[static_cast<std::size_t>(worker)];
@@ -700,6 +707,8 @@ void region_round(const std::vector<Vec3>& P, Stage& st, const std::vector<doubl
       }
       s.local[g] = ~0u;
     }
+    std::lock_guard<std::mutex> lock(mutex);
+    done(++finished, nr);
   });
   for (const SimplifyReport& r : reps) rep.collapses += r.collapses, rep.rejected += r.rejected;
   st.T.clear();
@@ -730,7 +739,13 @@ TriMesh simplify_mesh(const TriMesh& mesh, const Tape& tape, const SimplifyOptio
     const Vec3 n = n2 / len;
     for (std::uint32_t v : tr) st.Q[v].add_plane(n, -dot(n, mesh.vertices[tr[0]]), 0.5 * len);
   }
-  for (const double shift : {0.0, 0.5}) region_round(mesh.vertices, st, scale, shift, tape, E, cell, pool, rep);
+  // Progress: the first round is most of the work, the last pass a little.
+  const double share[2] = {0.75, 0.2};
+  for (int round = 0; round < 2; ++round)
+    region_round(mesh.vertices, st, scale, round * 0.5, tape, E, cell, pool, rep, [&](std::size_t r, std::size_t n) {
+      if (options.cancelled && options.cancelled()) throw MeshCancelled();
+      if (options.progress) options.progress((round ? share[0] : 0) + share[round] * static_cast<double>(r) / n);
+    });
   if (std::any_of(st.seed.begin(), st.seed.end(), [](char c) { return c != 0; })) {
     Part whole;
     whole.P = mesh.vertices;
@@ -747,6 +762,7 @@ TriMesh simplify_mesh(const TriMesh& mesh, const Tape& tape, const SimplifyOptio
     for (std::uint32_t t = 0; t < simp.triangles().size(); ++t)
       if (simp.alive(t)) st.T.push_back(simp.triangles()[t]);
   }
+  if (options.progress) options.progress(1);
   if (report) *report = rep;
   return compact(mesh.vertices, st.T);
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 
 #include "frep/eval/tape.hpp"
 #include "frep/mesh/mesh.hpp"
@@ -14,6 +15,10 @@ struct SimplifyOptions {
   double max_error = 0;  // bound on |f| over the output triangles, in model units (> 0)
   double cell_size = 0;  // the grid's cell: sets the sample spacing, the spatial hash and the regions
   int threads = 0;       // worker threads; 0 = all cores. The result is the same for any count.
+  // Called now and then with the fraction done (from worker threads, one call at a time).
+  std::function<void(double)> progress;
+  // Checked between regions: returns true to stop (simplify_mesh then throws MeshCancelled).
+  std::function<bool()> cancelled;
 };
 
 struct SimplifyReport {

@@ -23,7 +23,7 @@ enum class MeshMethod {
 inline constexpr int kMaxMeshResolution = 4096;
 
 struct MeshProgress {
-  const char* phase = "";  // "bounds", "cells", "assembly"
+  const char* phase = "";  // "bounds", "cells", "assembly", "simplify"
   double fraction = 0;     // of this phase done, 0 to 1
 };
 
