@@ -56,13 +56,10 @@ HWY_INLINE void Binary(const RegInstr& ins, const float* regs, float* o, std::si
 // Ops without a SIMD form here (libm functions, fmod): scalar, with the reference semantics.
 HWY_NOINLINE void ScalarOp(const RegInstr& ins, const float* regs, float* o, std::size_t stride,
                            std::size_t count) {
-  const float* a = regs + ins.a * stride;
-  const float* b = regs + ins.b * stride;
-  for (std::size_t i = 0; i < count; ++i) {
-    const float va = (ins.mode & RegInstr::kImmA) ? ins.imm : a[i];
-    const float vb = (ins.mode & RegInstr::kImmB) ? ins.imm : b[i];
-    o[i] = op_eval<float>(ins.op, va, vb);
-  }
+  const bool ia = ins.mode & RegInstr::kImmA, ib = ins.mode & RegInstr::kImmB;
+  const float* a = ia ? &ins.imm : regs + ins.a * stride;
+  const float* b = ib ? &ins.imm : regs + ins.b * stride;
+  op_eval_lanes<float>(ins.op, o, a, ia ? 0 : 1, b, ib ? 0 : 1, count);
 }
 
 void EvalChunk(const RegInstr* code, std::size_t ncode, float* regs, std::size_t stride, const float* x,

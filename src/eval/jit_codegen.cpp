@@ -27,7 +27,7 @@ using namespace asmjit;
 
 // Ops the generated code calls out for, one vector at a time: o[i] = op(a[i], b[i]).
 void scalar_op(float* o, const float* a, const float* b, int op, int lanes) {
-  for (int i = 0; i < lanes; ++i) o[i] = op_eval<float>(static_cast<Op>(op), a[i], b[i]);
+  op_eval_lanes<float>(static_cast<Op>(op), o, a, 1, b, 1, static_cast<std::size_t>(lanes));
 }
 
 // The gradient evaluator's scalar path for one vector (grad_partials.hpp): o, A, B are blocks of

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 #include "frep/expr/opcode.hpp"
@@ -70,6 +71,29 @@ inline T op_eval(Op op, T a, T b) {
     case Op::Oracle: break;
   }
   return std::numeric_limits<T>::quiet_NaN();
+}
+
+// o[i] = op_eval(op, a[i * a_step], b[i * b_step]) for i < n (a step of 0 repeats one value, an
+// immediate), with the op chosen once rather than per value: the path of the vector kernels for
+// the ops they leave to the C library, lane by lane.
+template <class T>
+inline void op_eval_lanes(Op op, T* o, const T* a, std::size_t a_step, const T* b, std::size_t b_step, std::size_t n) {
+  auto run = [&](auto f) {
+    for (std::size_t i = 0; i < n; ++i) o[i] = f(a[i * a_step], b[i * b_step]);
+  };
+  switch (op) {
+    case Op::Sin: return run([](T x, T y) { return op_eval<T>(Op::Sin, x, y); });
+    case Op::Cos: return run([](T x, T y) { return op_eval<T>(Op::Cos, x, y); });
+    case Op::Tan: return run([](T x, T y) { return op_eval<T>(Op::Tan, x, y); });
+    case Op::Asin: return run([](T x, T y) { return op_eval<T>(Op::Asin, x, y); });
+    case Op::Acos: return run([](T x, T y) { return op_eval<T>(Op::Acos, x, y); });
+    case Op::Atan: return run([](T x, T y) { return op_eval<T>(Op::Atan, x, y); });
+    case Op::Exp: return run([](T x, T y) { return op_eval<T>(Op::Exp, x, y); });
+    case Op::Ln: return run([](T x, T y) { return op_eval<T>(Op::Ln, x, y); });
+    case Op::Atan2: return run([](T x, T y) { return op_eval<T>(Op::Atan2, x, y); });
+    case Op::Mod: return run([](T x, T y) { return op_eval<T>(Op::Mod, x, y); });
+    default: return run([op](T x, T y) { return op_eval<T>(op, x, y); });
+  }
 }
 
 }  // namespace frep
