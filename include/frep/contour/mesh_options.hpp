@@ -67,8 +67,8 @@ struct MeshOptions {
 
   // Simplification of the finished mesh: edges are collapsed while every new triangle keeps
   // |f| <= max_error at samples at most half a cell apart (docs/meshing.md), in model units, or
-  // in cells when max_error_in_cells. 0 (the library's default, so meshes stay as they were):
-  // the uniform mesh as is. The CLI's default is 0.05 cells.
+  // in cells when max_error_in_cells. 0 (the default, here and on the command line): the
+  // uniform mesh as is.
   double max_error = 0;
   bool max_error_in_cells = false;
 
