@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <numeric>
 #include <mutex>
 #include <queue>
 #include <unordered_map>
@@ -468,34 +469,56 @@ constexpr int kRegionCells = 32;
 // min(1, |grad f|) at every vertex (Part::scale). E is a distance, the check is on |f|: where a
 // field is flatter than a distance (|grad f| < 1; a scaled sphere) triangles could stray
 // E / |grad f|. So a triangle's bound on |f| is E times the smallest scale at its corners, by
-// central differences a twentieth of a cell wide (across a crease they underestimate it, to
-// about 0.7: the bound only gets stricter).
+// central differences a twentieth of a cell wide along the axes (across a crease they
+// underestimate it, to about 0.7: the bound only gets stricter). Where that is below 1, the
+// largest difference along the four diagonals counts too: at the corner of an axis-aligned box
+// the axis probes run along its edges, on the surface, and would give 0, which no collapse at
+// the corner could meet. (No difference quotient exceeds the field's Lipschitz bound, so a
+// distance field's scale stays at most 1 and a flatter field's is not overestimated.)
 std::vector<double> gradient_scales(const std::vector<Vec3>& vs, const Tape& tape, double cell, ThreadPool& pool) {
   const double h = 0.05 * cell;
+  static const Vec3 kAxes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const double d = 1 / std::sqrt(3.0);
+  static const Vec3 kDiagonals[4] = {{d, d, d}, {d, d, -d}, {d, -d, d}, {-d, d, d}};
   std::vector<double> scale(vs.size(), 0);
   struct Scratch {
     BatchEvaluator eval;
     std::vector<float> xs, ys, zs, out;
+    std::vector<std::size_t> flat;  // vertices whose axis estimate is below 1
   };
   std::vector<Scratch> scratch(static_cast<std::size_t>(pool.size()));
-  pool.parallel_for_ranges(vs.size(), 4096, [&](int worker, std::size_t begin, std::size_t end) {
-    Scratch& s = scratch[static_cast<std::size_t>(worker)];
+  // f at p +- h dir for every vertex of `which` and direction, into s.out (two per pair).
+  auto probe = [&](Scratch& s, const std::size_t* which, std::size_t n, const Vec3* dirs, int ndirs) {
     s.xs.clear(), s.ys.clear(), s.zs.clear();
-    for (std::size_t i = begin; i < end; ++i)
-      for (int a = 0; a < 3; ++a)
+    for (std::size_t k = 0; k < n; ++k)
+      for (int a = 0; a < ndirs; ++a)
         for (double sgn : {-1.0, 1.0}) {
-          Vec3 q = vs[i];
-          q[a] += sgn * h;
+          const Vec3 q = vs[which[k]] + dirs[a] * (sgn * h);
           s.xs.push_back(static_cast<float>(q.x)), s.ys.push_back(static_cast<float>(q.y)), s.zs.push_back(static_cast<float>(q.z));
         }
     s.out.resize(s.xs.size());
     s.eval.eval(tape, s.xs.data(), s.ys.data(), s.zs.data(), s.out.data(), s.xs.size());
+  };
+  pool.parallel_for_ranges(vs.size(), 4096, [&](int worker, std::size_t begin, std::size_t end) {
+    Scratch& s = scratch[static_cast<std::size_t>(worker)];
+    std::vector<std::size_t> range(end - begin);
+    std::iota(range.begin(), range.end(), begin);
+    probe(s, range.data(), range.size(), kAxes, 3);
+    s.flat.clear();
     for (std::size_t i = begin; i < end; ++i) {
       const float* f = &s.out[6 * (i - begin)];
       const double gx = (f[1] - f[0]) / (2 * h), gy = (f[3] - f[2]) / (2 * h), gz = (f[5] - f[4]) / (2 * h);
       const double g = std::sqrt(gx * gx + gy * gy + gz * gz);
       scale[i] = std::isfinite(g) ? std::min(1.0, g) : 0;
+      if (std::isfinite(g) && g < 1) s.flat.push_back(i);
     }
+    if (s.flat.empty()) return;
+    probe(s, s.flat.data(), s.flat.size(), kDiagonals, 4);
+    for (std::size_t k = 0; k < s.flat.size(); ++k)
+      for (int a = 0; a < 4; ++a) {
+        const double g = std::fabs(s.out[8 * k + 2 * a + 1] - s.out[8 * k + 2 * a]) / (2 * h);
+        if (std::isfinite(g)) scale[s.flat[k]] = std::min(1.0, std::max(scale[s.flat[k]], g));
+      }
   });
   return scale;
 }

@@ -101,6 +101,31 @@ TEST(MeshSimplify, BoxKeepsItsCornersAndFlatFacesBecomeFewTriangles) {
   EXPECT_FALSE(test::cgal_self_intersects(simple));
 }
 
+// A cube with a cross-shaped hole (Menger's first step): at the hole's corners the field's
+// axis probes run along edges, on the surface, so the field's scale there must come from other
+// directions; otherwise no collapse at a corner meets the bound and the faces stay tiled.
+TEST(MeshSimplify, CornersOfHolesDoNotStopTheFacesMerging) {
+  Graph g;
+  auto x = g.x(), y = g.y(), z = g.z();
+  const Expr cube = max(max(abs(x) - 0.9f, abs(y) - 0.9f), abs(z) - 0.9f);
+  const Expr bars = min(min(max(abs(y), abs(z)), max(abs(x), abs(z))), max(abs(x), abs(y))) - 0.3f;
+  const Tape tape = Tape::compile(g, max(cube, -bars).id());
+  MeshOptions o;
+  o.resolution = 60;
+  o.bounds = Box3{{-1, -1, -1}, {1, 1, 1}};
+  o.lipschitz = 1;
+  o.max_error = 0.05;
+  o.max_error_in_cells = true;
+  MeshStats st;
+  const TriMesh simple = test::mesh_solid(tape, o, "cube with a cross hole", &st);
+  EXPECT_FALSE(st.simplify_rejected);
+  // About 110 triangles; with a scale of 0 at the points where three tunnels' edges meet, more
+  // than twice as many.
+  EXPECT_LT(simple.triangles.size(), 160u) << "of " << st.triangles_before_simplify;
+  EXPECT_LE(max_abs_field(simple, tape, 20), st.max_error * (1 + 1e-6));
+  EXPECT_FALSE(test::cgal_self_intersects(simple));
+}
+
 TEST(MeshSimplify, ZeroErrorIsTheUniformMeshExactly) {
   Graph g;
   auto x = g.x(), y = g.y(), z = g.z();
