@@ -145,14 +145,21 @@ class Simplifier {
   std::vector<char> alive_, vdead_, pending_;
   std::vector<std::vector<std::uint32_t>> vtris_;
   std::vector<std::uint32_t> version_, mark_;
-  std::vector<double> held_;          // per triangle: the bound on |f| its samples were checked to hold (infinite: never checked)
+  // Per triangle: the largest |f| at its samples, or at the samples of the triangles whose
+  // region it re-triangulates (infinite: never sampled).
+  std::vector<double> held_;
   std::vector<std::pair<Triangle, double>> checks_;  // triangles to sample, with their limits
   struct EdgeCheck {
     std::uint32_t a, b;  // a < b
     int n;               // sample intervals along it
     double limit;
+    std::uint32_t check;  // the listed triangle it is an edge of
+    std::uint32_t group;  // its index among the distinct edges
   };
-  std::vector<EdgeCheck> edges_;  // the listed triangles' edges (triangles_within)
+  std::vector<EdgeCheck> edges_;   // the listed triangles' edges (triangles_within)
+  std::vector<std::int32_t> owner_;  // per sample: its listed triangle, or -1 - its edge group
+  std::vector<float> edge_max_;     // per edge group: the largest |f| at its samples
+  std::vector<float> maxima_;       // per listed triangle, after triangles_within held: the largest |f| at its samples
   std::vector<float> fvertex_;    // per vertex: f there
   std::uint32_t stamp_ = 0;
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> heap_;
@@ -286,13 +293,17 @@ class Simplifier {
 
     // A few samples first (corners, edge midpoints, centroid): most refusals are found there,
     // before the costlier crossing test and the full grid of samples.
-    // A flat star (u's triangles in one plane, as on the faces of CAD parts) is re-triangulated
-    // in place: without flips the new triangles cover exactly the old ones' points, which were
-    // within the bound already, so the field needs no samples there.
+    // A flat star (u's triangles in one plane, as on the faces of CAD parts), or two along a
+    // straight crease, is re-triangulated in place: without flips the new triangles cover
+    // exactly the old ones' points, which were within the bound already, so the field needs no
+    // samples there.
     double star_limit = INFINITY;  // the strictest limit of the new triangles
     for (const auto& [t, nt] : moved_) star_limit = std::min(star_limit, limit_of(nt));
-    const bool flat = star_is_flat(u) && star_within(u, star_limit);
+    const bool flat = (star_is_flat(u) || star_is_crease(u, v)) && star_within(u, star_limit);
     if (!flat && !samples_within(2)) return false;
+    double star_held = 0;  // a flat star's: the largest |f| found on its triangles
+    if (flat)
+      for (std::uint32_t t : vtris_[u]) star_held = std::max(star_held, held_[t]);
 
     // (4) No crossing, overlap or touching: each new triangle against the triangles near it
     // (exact predicate), and against the other new ones.
@@ -355,10 +366,11 @@ class Simplifier {
           l.erase(std::find(l.begin(), l.end(), t));
         }
     }
-    // What the new triangles are known to hold: their own limit where they were sampled, the
-    // star's where they re-triangulate a flat star whose triangles held it.
-    for (const auto& [t, nt] : moved_) {
-      held_[t] = flat ? star_limit : limit_of(nt);
+    // What the new triangles are known to hold: what their samples found (samples_within(64)
+    // above, in moved_ order), or what the flat star's triangles held.
+    for (std::size_t i = 0; i < moved_.size(); ++i) {
+      const auto& [t, nt] = moved_[i];
+      held_[t] = flat ? star_held : maxima_[i];
       T_[t] = nt;
       vtris_[v].push_back(t);
       hash_insert(t);
@@ -374,6 +386,52 @@ class Simplifier {
     for (std::uint32_t w : nbr_v_)
       if (w != v) push(w, v), push(v, w);
     return true;
+  }
+
+  // True if u's triangles lie in two planes (each within a millionth of a cell) that meet along a
+  // line through v, u and one other vertex of u's ring, with u between the two: a vertex on a
+  // straight crease collapsing along it. Each plane's triangles are then a flat star of their
+  // own, re-triangulated in place (their region is the same with u gone from the straight edge).
+  bool star_is_crease(std::uint32_t u, std::uint32_t v) const {
+    const double tol = 1e-6 * cell_;
+    const Vec3 o = P_[u];
+    Vec3 n[2];
+    int planes = 0;
+    auto in_plane = [&](const Triangle& tr, const Vec3& nn) {
+      for (int k = 0; k < 3; ++k)
+        if (std::fabs(dot(P_[tr[k]] - o, nn)) > tol) return false;
+      return true;
+    };
+    for (std::uint32_t t : vtris_[u]) {
+      const Triangle& tr = T_[t];
+      if (planes > 0 && in_plane(tr, n[0])) continue;
+      if (planes > 1 && in_plane(tr, n[1])) continue;
+      if (planes == 2) return false;
+      const Vec3 c = cross(P_[tr[1]] - P_[tr[0]], P_[tr[2]] - P_[tr[0]]);
+      const double len = length(c);
+      if (!(len > 0)) return false;
+      n[planes++] = c / len;
+    }
+    if (planes != 2) return false;
+    Vec3 d = cross(n[0], n[1]);
+    const double dl = length(d);
+    if (!(dl > 1e-3)) return false;  // nearly one plane: not a crease to rely on
+    d = d / dl;
+    // The ring's vertices on the line through u along the crease: exactly v and one more, on
+    // opposite sides of u.
+    int on_line = 0;
+    bool has_v = false;
+    double side_v = 0, side_w = 0;
+    for (std::uint32_t w : nbr_u_) {
+      if (w == u) continue;
+      const Vec3 r = P_[w] - o;
+      const double along = dot(r, d);
+      if (length(r - d * along) > tol) continue;
+      ++on_line;
+      if (w == v) has_v = true, side_v = along;
+      else side_w = along;
+    }
+    return on_line == 2 && has_v && side_v * side_w < 0;
   }
 
   // True if every vertex of u's triangles lies within a millionth of a cell of the plane
@@ -410,55 +468,73 @@ class Simplifier {
   // Corners come from the values at the vertices, and an edge two listed triangles share is
   // sampled once, as finely as the finer grid asks and at the stricter limit.
   bool triangles_within(int max_n) {
-    xs_.clear(), ys_.clear(), zs_.clear(), limit_.clear(), edges_.clear();
-    auto add = [&](const Vec3& p, double limit) {
+    xs_.clear(), ys_.clear(), zs_.clear(), limit_.clear(), edges_.clear(), owner_.clear();
+    maxima_.assign(checks_.size(), 0.0f);
+    auto add = [&](const Vec3& p, double limit, std::int32_t owner) {
       xs_.push_back(static_cast<float>(p.x)), ys_.push_back(static_cast<float>(p.y)), zs_.push_back(static_cast<float>(p.z));
       limit_.push_back(limit);
+      owner_.push_back(owner);
     };
     auto intervals = [&](double length) { return std::clamp(static_cast<int>(std::ceil(length / (0.5 * cell_))), 1, max_n); };
-    for (const auto& [nt, limit] : checks_) {
+    for (std::uint32_t ci = 0; ci < checks_.size(); ++ci) {
+      const auto& [nt, limit] = checks_[ci];
+      const std::int32_t owner = static_cast<std::int32_t>(ci);
       const Vec3 a = P_[nt[0]], b = P_[nt[1]], c = P_[nt[2]];
       const int n = intervals(std::sqrt(std::max({length2(b - a), length2(c - b), length2(a - c)})));
       for (int k = 0; k < 3; ++k) {
-        if (!(std::fabs(fvertex_[nt[k]]) <= limit)) return false;
+        const float fv = std::fabs(fvertex_[nt[k]]);
+        if (!(fv <= limit)) return false;
+        maxima_[ci] = std::max(maxima_[ci], fv);
         const std::uint32_t u = nt[k], w = nt[(k + 1) % 3];
-        edges_.push_back({std::min(u, w), std::max(u, w), n, limit});
+        edges_.push_back({std::min(u, w), std::max(u, w), n, limit, ci, 0});
       }
       for (int i = 1; i < n; ++i)
-        for (int j = 1; i + j < n; ++j) add(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n), limit);
-      add((a + b + c) / 3.0, limit);
+        for (int j = 1; i + j < n; ++j) add(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n), limit, owner);
+      add((a + b + c) / 3.0, limit, owner);
     }
     // Each edge once, as finely as its finest triangle's grid and at its strictest limit.
     std::sort(edges_.begin(), edges_.end(),
               [](const EdgeCheck& x, const EdgeCheck& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
-    for (std::size_t e = 0; e < edges_.size();) {
+    std::int32_t groups = 0;
+    for (std::size_t e = 0; e < edges_.size(); ++groups) {
       EdgeCheck g = edges_[e];
-      for (++e; e < edges_.size() && edges_[e].a == g.a && edges_[e].b == g.b; ++e)
+      edges_[e].group = static_cast<std::uint32_t>(groups);
+      for (++e; e < edges_.size() && edges_[e].a == g.a && edges_[e].b == g.b; ++e) {
         g.n = std::max(g.n, edges_[e].n), g.limit = std::min(g.limit, edges_[e].limit);
+        edges_[e].group = static_cast<std::uint32_t>(groups);
+      }
       const Vec3 a = P_[g.a], b = P_[g.b];
-      for (int k = 1; k < g.n; ++k) add(a + (b - a) * (double(k) / g.n), g.limit);
+      for (int k = 1; k < g.n; ++k) add(a + (b - a) * (double(k) / g.n), g.limit, -1 - groups);
     }
     if (xs_.empty()) return true;
     out_.resize(xs_.size());
     eval_.eval(tape_, xs_.data(), ys_.data(), zs_.data(), out_.data(), xs_.size());
-    for (std::size_t i = 0; i < out_.size(); ++i)
-      if (!(std::fabs(out_[i]) <= limit_[i])) return false;
+    edge_max_.assign(static_cast<std::size_t>(groups), 0.0f);
+    for (std::size_t i = 0; i < out_.size(); ++i) {
+      const float f = std::fabs(out_[i]);
+      if (!(f <= limit_[i])) return false;
+      const std::int32_t o = owner_[i];
+      float& m = o >= 0 ? maxima_[static_cast<std::size_t>(o)] : edge_max_[static_cast<std::size_t>(-1 - o)];
+      m = std::max(m, f);
+    }
+    for (const EdgeCheck& e : edges_) maxima_[e.check] = std::max(maxima_[e.check], edge_max_[e.group]);
     return true;
   }
 
-  // A flat star whose triangles all hold a bound no looser than `limit`: checks (at their
-  // samples) those that do not yet, and records it. False if one fails.
+  // Whether u's triangles (a flat star) are within `limit` at their samples: those not sampled
+  // yet, or found above it, are sampled now, and what is found recorded. False if one fails.
   bool star_within(std::uint32_t u, double limit) {
     checks_.clear();
+    check_tris_.clear();
     for (std::uint32_t t : vtris_[u])
-      if (held_[t] > limit) checks_.push_back({T_[t], limit});
+      if (held_[t] > limit) checks_.push_back({T_[t], limit}), check_tris_.push_back(t);
     if (checks_.empty()) return true;
     if (!triangles_within(64)) return false;
-    for (std::uint32_t t : vtris_[u]) held_[t] = std::min(held_[t], limit);
+    for (std::size_t c = 0; c < check_tris_.size(); ++c) held_[check_tris_[c]] = maxima_[c];
     return true;
   }
 
-  std::vector<std::uint32_t> nbr_u_, nbr_v_, seen_;
+  std::vector<std::uint32_t> nbr_u_, nbr_v_, seen_, check_tris_;
   std::uint32_t qstamp_ = 0;
   std::vector<std::pair<std::uint32_t, Triangle>> moved_;
 };
