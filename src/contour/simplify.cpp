@@ -67,6 +67,7 @@ struct Part {
   std::vector<Vec3> P;
   std::vector<Triangle> T;
   std::vector<double> scale;         // per vertex: min(1, |grad f|), which scales E into a bound on |f|
+  std::vector<float> value;          // per vertex: f there
   std::vector<Quadric> Q;            // per vertex: its quadric
   std::vector<std::uint32_t> shell;  // per vertex: its shell's index into `volume`
   std::vector<double> volume;        // per shell: signed volume
@@ -81,7 +82,7 @@ class Simplifier {
  public:
   Simplifier(Part&& part, const Tape& tape, double max_error, double cell)
       : P_(std::move(part.P)), T_(std::move(part.T)), tape_(tape), E_(max_error), cell_(cell),
-        scale_(std::move(part.scale)), Q_(std::move(part.Q)), frozen_(std::move(part.frozen)),
+        scale_(std::move(part.scale)), fvertex_(std::move(part.value)), Q_(std::move(part.Q)), frozen_(std::move(part.frozen)),
         shell_(std::move(part.shell)), volume_(std::move(part.volume)), budget_(std::move(part.budget)) {
     alive_.assign(T_.size(), 1);
     vdead_.assign(P_.size(), 0);
@@ -92,11 +93,6 @@ class Simplifier {
     pending_.assign(P_.size(), 0);
     spent_.assign(volume_.size(), 0);
     hash_size_ = 4 * cell_;
-    xs_.clear(), ys_.clear(), zs_.clear();
-    for (const Vec3& p : P_)
-      xs_.push_back(static_cast<float>(p.x)), ys_.push_back(static_cast<float>(p.y)), zs_.push_back(static_cast<float>(p.z));
-    fvertex_.resize(P_.size());
-    if (!P_.empty()) eval_.eval(tape_, xs_.data(), ys_.data(), zs_.data(), fvertex_.data(), P_.size());
     for (std::uint32_t t = 0; t < T_.size(); ++t) {
       for (int k = 0; k < 3; ++k) vtris_[T_[t][k]].push_back(t);
       hash_insert(t);
@@ -137,6 +133,7 @@ class Simplifier {
   const Tape& tape_;
   double E_, cell_, hash_size_;
   std::vector<double> scale_;  // as Part
+  std::vector<float> fvertex_;  // Part::value
   std::vector<Quadric> Q_;
   std::vector<char> frozen_;
   std::vector<std::uint32_t> shell_;
@@ -160,7 +157,6 @@ class Simplifier {
   std::vector<std::int32_t> owner_;  // per sample: its listed triangle, or -1 - its edge group
   std::vector<float> edge_max_;     // per edge group: the largest |f| at its samples
   std::vector<float> maxima_;       // per listed triangle, after triangles_within held: the largest |f| at its samples
-  std::vector<float> fvertex_;    // per vertex: f there
   std::uint32_t stamp_ = 0;
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> heap_;
   // Spatial hash: per cell, entries (triangle << 32 | its version when inserted). A triangle that
@@ -549,14 +545,18 @@ constexpr int kRegionCells = 32;
 // underestimate it, to about 0.7: the bound only gets stricter). Where that is below 1, the
 // largest difference along the four diagonals counts too: at the corner of an axis-aligned box
 // the axis probes run along its edges, on the surface, and would give 0, which no collapse at
-// the corner could meet. (No difference quotient exceeds the field's Lipschitz bound, so a
+// the corner could meet (below 0.99: what f32 rounding leaves of a distance field's 1 is not
+// worth the probes). (No difference quotient exceeds the field's Lipschitz bound, so a
 // distance field's scale stays at most 1 and a flatter field's is not overestimated.)
-std::vector<double> gradient_scales(const std::vector<Vec3>& vs, const Tape& tape, double cell, ThreadPool& pool) {
+// Also f at every vertex (into `value`), which every sample check reads at triangles' corners.
+std::vector<double> gradient_scales(const std::vector<Vec3>& vs, const Tape& tape, double cell, ThreadPool& pool,
+                                    std::vector<float>& value) {
   const double h = 0.05 * cell;
   static const Vec3 kAxes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   const double d = 1 / std::sqrt(3.0);
   static const Vec3 kDiagonals[4] = {{d, d, d}, {d, d, -d}, {d, -d, d}, {-d, d, d}};
   std::vector<double> scale(vs.size(), 0);
+  value.assign(vs.size(), 0.0f);
   struct Scratch {
     BatchEvaluator eval;
     std::vector<float> xs, ys, zs, out;
@@ -577,6 +577,10 @@ std::vector<double> gradient_scales(const std::vector<Vec3>& vs, const Tape& tap
   };
   pool.parallel_for_ranges(vs.size(), 4096, [&](int worker, std::size_t begin, std::size_t end) {
     Scratch& s = scratch[static_cast<std::size_t>(worker)];
+    s.xs.clear(), s.ys.clear(), s.zs.clear();
+    for (std::size_t i = begin; i < end; ++i)
+      s.xs.push_back(static_cast<float>(vs[i].x)), s.ys.push_back(static_cast<float>(vs[i].y)), s.zs.push_back(static_cast<float>(vs[i].z));
+    s.eval.eval(tape, s.xs.data(), s.ys.data(), s.zs.data(), value.data() + begin, end - begin);
     std::vector<std::size_t> range(end - begin);
     std::iota(range.begin(), range.end(), begin);
     probe(s, range.data(), range.size(), kAxes, 3);
@@ -586,7 +590,7 @@ std::vector<double> gradient_scales(const std::vector<Vec3>& vs, const Tape& tap
       const double gx = (f[1] - f[0]) / (2 * h), gy = (f[3] - f[2]) / (2 * h), gz = (f[5] - f[4]) / (2 * h);
       const double g = std::sqrt(gx * gx + gy * gy + gz * gz);
       scale[i] = std::isfinite(g) ? std::min(1.0, g) : 0;
-      if (std::isfinite(g) && g < 1) s.flat.push_back(i);
+      if (std::isfinite(g) && g < 0.99) s.flat.push_back(i);  // (a distance field's 1, rounded, need not)
     }
     if (s.flat.empty()) return;
     probe(s, s.flat.data(), s.flat.size(), kDiagonals, 4);
@@ -715,7 +719,8 @@ struct Stage {
 // they are, and a shell that spans regions may change its volume in each by at most its share of
 // half of it. Leaves in `st.seed` the vertices with collapses left to try.
 // `done(r, n)` is called after each of the n regions (r of them done), one call at a time.
-void region_round(const std::vector<Vec3>& P, Stage& st, const std::vector<double>& scale, double shift,
+void region_round(const std::vector<Vec3>& P, Stage& st, const std::vector<double>& scale,
+                  const std::vector<float>& value, double shift,
                   const Tape& tape, double E, double cell, ThreadPool& pool, SimplifyReport& rep,
                   const std::function<void(std::size_t, std::size_t)>& done) {
   const std::size_t nv = P.size();
@@ -769,6 +774,7 @@ void region_round(const std::vector<Vec3>& P, Stage& st, const std::vector<doubl
     for (std::uint32_t g : global) {
       part.P.push_back(P[g]);
       part.scale.push_back(scale[g]);
+      part.value.push_back(value[g]);
       part.Q.push_back(st.Q[g]);
       part.frozen.push_back(regions.frozen[g] || regions.of_vertex[g] != r);
       if (!st.seed.empty()) part.seed.push_back(st.seed[g]);
@@ -827,7 +833,8 @@ TriMesh simplify_mesh(const TriMesh& mesh, const Tape& tape, const SimplifyOptio
   const double E = options.max_error, cell = options.cell_size;
   const std::size_t nv = mesh.vertices.size();
   ThreadPool pool(resolve_thread_count(options.threads));
-  const std::vector<double> scale = gradient_scales(mesh.vertices, tape, cell, pool);
+  std::vector<float> value;
+  const std::vector<double> scale = gradient_scales(mesh.vertices, tape, cell, pool, value);
   Stage st;
   st.T = mesh.triangles;
   st.Q.resize(nv);
@@ -841,7 +848,7 @@ TriMesh simplify_mesh(const TriMesh& mesh, const Tape& tape, const SimplifyOptio
   // Progress: the first round is most of the work, the last pass a little.
   const double share[2] = {0.75, 0.2};
   for (int round = 0; round < 2; ++round)
-    region_round(mesh.vertices, st, scale, round * 0.5, tape, E, cell, pool, rep, [&](std::size_t r, std::size_t n) {
+    region_round(mesh.vertices, st, scale, value, round * 0.5, tape, E, cell, pool, rep, [&](std::size_t r, std::size_t n) {
       if (options.cancelled && options.cancelled()) throw MeshCancelled();
       if (options.progress) options.progress((round ? share[0] : 0) + share[round] * static_cast<double>(r) / n);
     });
@@ -850,6 +857,7 @@ TriMesh simplify_mesh(const TriMesh& mesh, const Tape& tape, const SimplifyOptio
     whole.P = mesh.vertices;
     whole.T = std::move(st.T);
     whole.scale = scale;
+    whole.value = std::move(value);
     whole.Q = std::move(st.Q);
     shells_of(whole.P, whole.T, whole.shell, whole.volume);
     whole.budget.assign(nv, INFINITY);
