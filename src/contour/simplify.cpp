@@ -632,9 +632,9 @@ TriMesh compact(const std::vector<Vec3>& P, const std::vector<Triangle>& T) {
   return out;
 }
 
-// The regions of the first round: cubes of kRegionCells cells from the mesh's low corner. A
-// triangle whose corners lie in one region is that region's to change; the others (across
-// regions) stay as they are in the first round, and their corners are frozen.
+// The regions of a round: cubes of kRegionCells cells. A triangle whose corners lie in one region
+// is that region's to change; the others (across regions) stay as they are in the round, and
+// their corners are frozen.
 struct Regions {
   double size = 0;
   Vec3 origin;
@@ -658,26 +658,26 @@ struct Regions {
   }
 
   // Regions moved by `shift` of a region from the mesh's low corner.
-  Regions(const TriMesh& m, double cell, double shift) {
+  Regions(const std::vector<Vec3>& P, const std::vector<Triangle>& T, double cell, double shift) {
     size = kRegionCells * cell;
     Box3 bb;
-    for (const Vec3& p : m.vertices) bb.add(p);
+    for (const Vec3& p : P) bb.add(p);
     origin = bb.lo - Vec3{1, 1, 1} * (shift * size);
-    std::vector<std::uint64_t> vkey(m.vertices.size());
-    for (std::size_t v = 0; v < m.vertices.size(); ++v) {
-      const Vec3& p = m.vertices[v];
+    std::vector<std::uint64_t> vkey(P.size());
+    for (std::size_t v = 0; v < P.size(); ++v) {
+      const Vec3& p = P[v];
       vkey[v] = key(coord(p.x, 0), coord(p.y, 1), coord(p.z, 2));
     }
     keys = vkey;
     std::sort(keys.begin(), keys.end());
     keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-    of_vertex.resize(m.vertices.size());
-    for (std::size_t v = 0; v < m.vertices.size(); ++v) of_vertex[v] = static_cast<std::uint32_t>(find(vkey[v]));
+    of_vertex.resize(P.size());
+    for (std::size_t v = 0; v < P.size(); ++v) of_vertex[v] = static_cast<std::uint32_t>(find(vkey[v]));
     inside.resize(keys.size());
     around.resize(keys.size());
-    frozen.assign(m.vertices.size(), 0);
-    for (std::uint32_t t = 0; t < m.triangles.size(); ++t) {
-      const Triangle& tr = m.triangles[t];
+    frozen.assign(P.size(), 0);
+    for (std::uint32_t t = 0; t < T.size(); ++t) {
+      const Triangle& tr = T[t];
       const std::uint32_t r = of_vertex[tr[0]];
       if (of_vertex[tr[1]] == r && of_vertex[tr[2]] == r) {
         inside[r].push_back(t);
@@ -688,7 +688,7 @@ struct Regions {
       // Every region whose box the triangle's box meets (one region of margin for rounding):
       // what a region changes stays inside its own box, so these are all it can run into.
       Box3 tb;
-      for (std::uint32_t v : tr) tb.add(m.vertices[v]);
+      for (std::uint32_t v : tr) tb.add(P[v]);
       std::int64_t lo[3], hi[3];
       for (int a = 0; a < 3; ++a) lo[a] = coord(tb.lo[a], a) - 1, hi[a] = coord(tb.hi[a], a) + 1;
       for (std::int64_t i = std::max<std::int64_t>(lo[0], 0); i <= hi[0]; ++i)
@@ -724,19 +724,17 @@ void region_round(const std::vector<Vec3>& P, Stage& st, const std::vector<doubl
                   const Tape& tape, double E, double cell, ThreadPool& pool, SimplifyReport& rep,
                   const std::function<void(std::size_t, std::size_t)>& done) {
   const std::size_t nv = P.size();
-  TriMesh m;
-  m.vertices = P;  // (Regions reads a TriMesh)
-  m.triangles = std::move(st.T);
+  const std::vector<Triangle> T = std::move(st.T);
   std::vector<std::uint32_t> root;
   std::vector<double> volume;
-  shells_of(m.vertices, m.triangles, root, volume);
-  const Regions regions(m, cell, shift);
+  shells_of(P, T, root, volume);
+  const Regions regions(P, T, cell, shift);
   const std::size_t nr = regions.keys.size();
   // Per shell (at its root): how many regions it has vertices in.
   std::vector<std::uint32_t> spans(nv, 0);
   {
     std::vector<std::uint64_t> pairs;
-    for (const Triangle& tr : m.triangles)
+    for (const Triangle& tr : T)
       for (std::uint32_t v : tr) pairs.push_back(static_cast<std::uint64_t>(root[v]) << 32 | regions.of_vertex[v]);
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
@@ -768,7 +766,7 @@ void region_round(const std::vector<Vec3>& P, Stage& st, const std::vector<doubl
     };
     for (const auto* list : {&regions.inside[r], &regions.around[r]})
       for (std::uint32_t t : *list) {
-        const Triangle& tr = m.triangles[t];
+        const Triangle& tr = T[t];
         part.T.push_back({local(tr[0]), local(tr[1]), local(tr[2])});
       }
     for (std::uint32_t g : global) {
@@ -818,7 +816,7 @@ void region_round(const std::vector<Vec3>& P, Stage& st, const std::vector<doubl
   for (const SimplifyReport& r : reps) rep.collapses += r.collapses, rep.rejected += r.rejected;
   st.T.clear();
   for (const auto& k : kept) st.T.insert(st.T.end(), k.begin(), k.end());
-  for (std::uint32_t t : regions.across) st.T.push_back(m.triangles[t]);
+  for (std::uint32_t t : regions.across) st.T.push_back(T[t]);
   st.seed = std::move(pending);
 }
 
