@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
-#include <numeric>
 #include <mutex>
 #include <queue>
 #include <unordered_map>
@@ -55,6 +54,13 @@ struct Candidate {
     return v > o.v;
   }
 };
+
+// One 64-bit key for cell (i, j, k): 21 bits per axis (the spatial hash's cells wrap around at
+// 2^21; region coordinates stay below it).
+std::uint64_t cell_key(std::int64_t i, std::int64_t j, std::int64_t k) {
+  return (static_cast<std::uint64_t>(i & 0x1fffff) << 42) | (static_cast<std::uint64_t>(j & 0x1fffff) << 21) |
+         static_cast<std::uint64_t>(k & 0x1fffff);
+}
 
 // 4 sqrt(3) area / sum of squared edges: 1 for an equilateral triangle, 0 for a flat one.
 double quality(const Vec3& p, const Vec3& q, const Vec3& r) {
@@ -181,10 +187,6 @@ class Simplifier {
     return {static_cast<std::int64_t>(std::floor(p.x / hash_size_)), static_cast<std::int64_t>(std::floor(p.y / hash_size_)),
             static_cast<std::int64_t>(std::floor(p.z / hash_size_))};
   }
-  static std::uint64_t key(std::int64_t i, std::int64_t j, std::int64_t k) {
-    return (static_cast<std::uint64_t>(i & 0x1fffff) << 42) | (static_cast<std::uint64_t>(j & 0x1fffff) << 21) |
-           static_cast<std::uint64_t>(k & 0x1fffff);
-  }
   Box3 box_of(const std::array<Vec3, 3>& c) const {
     Box3 b;
     for (const Vec3& p : c) b.add(p);
@@ -196,7 +198,7 @@ class Simplifier {
     const auto lo = hash_cell(b.lo), hi = hash_cell(b.hi);
     for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
       for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
-        for (std::int64_t k = lo[2]; k <= hi[2]; ++k) f(key(i, j, k));
+        for (std::int64_t k = lo[2]; k <= hi[2]; ++k) f(cell_key(i, j, k));
   }
   // (Re)inserts triangle t at its current corners under a new version.
   void hash_insert(std::uint32_t t) {
@@ -388,6 +390,7 @@ class Simplifier {
   // line through v, u and one other vertex of u's ring, with u between the two: a vertex on a
   // straight crease collapsing along it. Each plane's triangles are then a flat star of their
   // own, re-triangulated in place (their region is the same with u gone from the straight edge).
+  // Reads u's ring from nbr_u_ (try_collapse's link check fills it).
   bool star_is_crease(std::uint32_t u, std::uint32_t v) const {
     const double tol = 1e-6 * cell_;
     const Vec3 o = P_[u];
@@ -560,40 +563,37 @@ std::vector<double> gradient_scales(const std::vector<Vec3>& vs, const Tape& tap
   struct Scratch {
     BatchEvaluator eval;
     std::vector<float> xs, ys, zs, out;
-    std::vector<std::size_t> flat;  // vertices whose axis estimate is below 1
+    std::vector<std::size_t> flat;  // vertices whose axis estimate is below 0.99
   };
   std::vector<Scratch> scratch(static_cast<std::size_t>(pool.size()));
-  // f at p +- h dir for every vertex of `which` and direction, into s.out (two per pair).
-  auto probe = [&](Scratch& s, const std::size_t* which, std::size_t n, const Vec3* dirs, int ndirs) {
+  // f at point(k) for k < n, into out.
+  auto eval_at = [&](Scratch& s, std::size_t n, auto&& point, float* out) {
     s.xs.clear(), s.ys.clear(), s.zs.clear();
-    for (std::size_t k = 0; k < n; ++k)
-      for (int a = 0; a < ndirs; ++a)
-        for (double sgn : {-1.0, 1.0}) {
-          const Vec3 q = vs[which[k]] + dirs[a] * (sgn * h);
-          s.xs.push_back(static_cast<float>(q.x)), s.ys.push_back(static_cast<float>(q.y)), s.zs.push_back(static_cast<float>(q.z));
-        }
-    s.out.resize(s.xs.size());
-    s.eval.eval(tape, s.xs.data(), s.ys.data(), s.zs.data(), s.out.data(), s.xs.size());
+    for (std::size_t k = 0; k < n; ++k) {
+      const Vec3 q = point(k);
+      s.xs.push_back(static_cast<float>(q.x)), s.ys.push_back(static_cast<float>(q.y)), s.zs.push_back(static_cast<float>(q.z));
+    }
+    s.eval.eval(tape, s.xs.data(), s.ys.data(), s.zs.data(), out, n);
   };
+  // Probe k of a vertex: along dirs[k / 2], backwards for even k.
+  auto probe = [&](const Vec3& p, const Vec3* dirs, std::size_t k) { return p + dirs[k / 2] * ((k % 2 ? 1.0 : -1.0) * h); };
   pool.parallel_for_ranges(vs.size(), 4096, [&](int worker, std::size_t begin, std::size_t end) {
     Scratch& s = scratch[static_cast<std::size_t>(worker)];
-    s.xs.clear(), s.ys.clear(), s.zs.clear();
-    for (std::size_t i = begin; i < end; ++i)
-      s.xs.push_back(static_cast<float>(vs[i].x)), s.ys.push_back(static_cast<float>(vs[i].y)), s.zs.push_back(static_cast<float>(vs[i].z));
-    s.eval.eval(tape, s.xs.data(), s.ys.data(), s.zs.data(), value.data() + begin, end - begin);
-    std::vector<std::size_t> range(end - begin);
-    std::iota(range.begin(), range.end(), begin);
-    probe(s, range.data(), range.size(), kAxes, 3);
+    const std::size_t n = end - begin;
+    eval_at(s, n, [&](std::size_t k) { return vs[begin + k]; }, value.data() + begin);
+    s.out.resize(6 * n);
+    eval_at(s, 6 * n, [&](std::size_t k) { return probe(vs[begin + k / 6], kAxes, k % 6); }, s.out.data());
     s.flat.clear();
     for (std::size_t i = begin; i < end; ++i) {
       const float* f = &s.out[6 * (i - begin)];
       const double gx = (f[1] - f[0]) / (2 * h), gy = (f[3] - f[2]) / (2 * h), gz = (f[5] - f[4]) / (2 * h);
       const double g = std::sqrt(gx * gx + gy * gy + gz * gz);
       scale[i] = std::isfinite(g) ? std::min(1.0, g) : 0;
-      if (std::isfinite(g) && g < 0.99) s.flat.push_back(i);  // (a distance field's 1, rounded, need not)
+      if (std::isfinite(g) && g < 0.99) s.flat.push_back(i);
     }
     if (s.flat.empty()) return;
-    probe(s, s.flat.data(), s.flat.size(), kDiagonals, 4);
+    s.out.resize(8 * s.flat.size());
+    eval_at(s, 8 * s.flat.size(), [&](std::size_t k) { return probe(vs[s.flat[k / 8]], kDiagonals, k % 8); }, s.out.data());
     for (std::size_t k = 0; k < s.flat.size(); ++k)
       for (int a = 0; a < 4; ++a) {
         const double g = std::fabs(s.out[8 * k + 2 * a + 1] - s.out[8 * k + 2 * a]) / (2 * h);
@@ -645,9 +645,6 @@ struct Regions {
   std::vector<std::uint32_t> across;        // triangles across regions
   std::vector<char> frozen;                 // per vertex: a corner of a triangle across regions
 
-  static std::uint64_t key(std::int64_t i, std::int64_t j, std::int64_t k) {
-    return static_cast<std::uint64_t>(i) << 42 | static_cast<std::uint64_t>(j) << 21 | static_cast<std::uint64_t>(k);
-  }
   // Region coordinate of x along axis a (monotone in x, so regions along an axis never interleave).
   std::int64_t coord(double x, int a) const {
     return std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor((x - origin[a]) / size)), 0, (1 << 20) - 1);
@@ -666,7 +663,7 @@ struct Regions {
     std::vector<std::uint64_t> vkey(P.size());
     for (std::size_t v = 0; v < P.size(); ++v) {
       const Vec3& p = P[v];
-      vkey[v] = key(coord(p.x, 0), coord(p.y, 1), coord(p.z, 2));
+      vkey[v] = cell_key(coord(p.x, 0), coord(p.y, 1), coord(p.z, 2));
     }
     keys = vkey;
     std::sort(keys.begin(), keys.end());
@@ -694,7 +691,7 @@ struct Regions {
       for (std::int64_t i = std::max<std::int64_t>(lo[0], 0); i <= hi[0]; ++i)
         for (std::int64_t j = std::max<std::int64_t>(lo[1], 0); j <= hi[1]; ++j)
           for (std::int64_t k = std::max<std::int64_t>(lo[2], 0); k <= hi[2]; ++k)
-            if (const std::int64_t r2 = find(key(i, j, k)); r2 >= 0) around[static_cast<std::size_t>(r2)].push_back(t);
+            if (const std::int64_t r2 = find(cell_key(i, j, k)); r2 >= 0) around[static_cast<std::size_t>(r2)].push_back(t);
     }
   }
   // Region r's box, with `margin` around it.
@@ -733,9 +730,8 @@ void region_round(const std::vector<Vec3>& P, Stage& st, const std::vector<doubl
   // Per shell (at its root): how many regions it has vertices in.
   std::vector<std::uint32_t> spans(nv, 0);
   {
-    std::vector<std::uint64_t> pairs;
-    for (const Triangle& tr : T)
-      for (std::uint32_t v : tr) pairs.push_back(static_cast<std::uint64_t>(root[v]) << 32 | regions.of_vertex[v]);
+    std::vector<std::uint64_t> pairs(nv);
+    for (std::size_t v = 0; v < nv; ++v) pairs[v] = static_cast<std::uint64_t>(root[v]) << 32 | regions.of_vertex[v];
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
     for (const std::uint64_t p : pairs) ++spans[p >> 32];
