@@ -60,6 +60,7 @@
 #include "frep/mesh/tri_tri.hpp"
 #include "frep/mesh/coordinate_range.hpp"
 #include "frep/mesh/repair.hpp"
+#include "frep/mesh/merge_flat.hpp"
 
 #include "frep/render/image.hpp"
 #include "frep/render/render2d.hpp"
