@@ -13,6 +13,7 @@
 #include "frep/model/field.hpp"
 #include "frep/expr/graph.hpp"
 #include "frep/math/vec.hpp"
+#include "input.hpp"
 
 namespace frep::cli {
 
@@ -24,7 +25,7 @@ struct FieldOutputOptions {
   bool repair = false;  // --repair: repair a broken input mesh first
   double lipschitz = -1;       // --lipschitz, or < 0 if not given; commands resolve it with lipschitz_of
   std::string units = "mm";    // --units: a .3mf output's length unit
-  std::string max_error = "0";  // --max-error: simplification bound (model units, or Nc cells; 0: none)
+  std::string max_error = kDefaultMaxError;  // --max-error: flat, a bound (model units, or Nc cells), or 0
 };
 
 // Adds --resolution, --bounds, --threads, --quiet, --repair, --lipschitz, --units and --max-error, stored in `o` (which must outlive parsing).

@@ -111,14 +111,22 @@ void print_mesh_notes(const MeshStats& st) {
                st.unresolved_first, st.unresolved);
   if (st.simplify_rejected)
     fmt::print("note: the simplified mesh failed validation; the uniform mesh of the grid is written\n");
-  else if (st.triangles_before_simplify > 0)
+  else if (st.triangles_before_simplify > 0 && st.max_error > 0)
     fmt::print("simplified {} -> {} triangles within {:.3g} in {:.2f} s\n", st.triangles_before_simplify,
                st.triangles, st.max_error, st.seconds_simplify);
+  else if (st.triangles_before_simplify > st.triangles)
+    fmt::print("merged flat regions: {} -> {} triangles in {:.2f} s (--max-error 0: the uniform mesh)\n",
+               st.triangles_before_simplify, st.triangles, st.seconds_simplify);
 }
 
 namespace {
-// "0.25c" -> (0.25, cells); "0.01" -> (0.01, units); false unless a finite number >= 0.
+// "0.25c" -> (0.25, cells); "0.01" -> (0.01, units); "flat" -> (0, cells); false unless a finite
+// number >= 0 or "flat".
 bool parse_max_error(std::string s, double& v, bool& cells) {
+  if (s == "flat") {
+    v = 0, cells = true;
+    return true;
+  }
   cells = !s.empty() && s.back() == 'c';
   if (cells) s.pop_back();
   return CLI::detail::lexical_cast(s, v) && std::isfinite(v) && v >= 0;
@@ -127,29 +135,29 @@ bool parse_max_error(std::string s, double& v, bool& cells) {
 
 void add_max_error_option(CLI::App* cmd, std::string& value) {
   value = kDefaultMaxError;
-  // Why 0.05 of a cell: on a part 128 cells across it is 0.04% of its size, not visible, while
-  // flat faces still merge completely (the demo's bracket: 58,120 -> 296 triangles).
   cmd->add_option("--max-error", value,
-                  "Simplify the mesh while every triangle stays within this |f| of the surface (sampled): model units, "
-                  "or Nc for N cells (e.g. 0.25c); 0 keeps the uniform mesh of the grid")
+                  "flat: merge the triangles of flat regions only (the surface keeps its points); E or Nc: simplify "
+                  "while every triangle stays within this |f| of the surface (sampled), in model units or N cells "
+                  "(0.05c: a twentieth of a cell, invisible; 0.5c for scans); 0: the uniform mesh of the grid")
       ->check(CLI::Validator(
           [](std::string& s) -> std::string {
             double v = 0;
             bool cells = false;
             if (!parse_max_error(s, v, cells))
-              return "the maximum error must be a number >= 0, in model units or followed by c (cells), got " + s;
+              return "the maximum error must be flat or a number >= 0, in model units or followed by c (cells), got " + s;
             return {};
           },
-          "E or Nc"))
+          "flat, E or Nc"))
       ->capture_default_str();
 }
 
 void set_max_error(const std::string& value, MeshOptions& o) {
   double v = 0;
   bool cells = false;
-  if (!parse_max_error(value, v, cells)) throw CLI::ValidationError("--max-error", "not a number >= 0: " + value);
+  if (!parse_max_error(value, v, cells)) throw CLI::ValidationError("--max-error", "not flat nor a number >= 0: " + value);
   o.max_error = v;
   o.max_error_in_cells = cells;
+  o.merge_flat = value == "flat" || v > 0;
 }
 
 Box3 bounds_option(const std::vector<double>& b) {

@@ -42,11 +42,12 @@ Box3 bounds_option(const std::vector<double>& values);
 // |f(p) - f(q)| <= L |p - q| (see FieldInfo::lipschitz). `value` stays negative unless given.
 void add_lipschitz_option(CLI::App* cmd, double& value);
 
-// --max-error E (model units) or Nc (N cells): the bound of the simplification after meshing
-// (MeshOptions::max_error); 0 (the default) keeps the uniform mesh: the simplification costs
-// 10 to 30 times the meshing today, too much to impose. `set_max_error` puts a checked value in
-// the options.
-inline constexpr const char* kDefaultMaxError = "0";
+// --max-error: `flat` (the default) merges flat regions only (MeshOptions::merge_flat: the surface
+// keeps its points, at a few percent of the meshing's time); E (model units) or Nc (N cells)
+// simplifies within that bound (MeshOptions::max_error; several times the meshing's time, so
+// asked for); 0 keeps the uniform mesh of the grid. `set_max_error` puts a checked value in the
+// options.
+inline constexpr const char* kDefaultMaxError = "flat";
 void add_max_error_option(CLI::App* cmd, std::string& value);
 void set_max_error(const std::string& value, MeshOptions& o);
 // The bound to use: the option's value if given, else the model's own (1 for a converted mesh or

@@ -16,6 +16,7 @@
 #include "frep/error.hpp"
 #include "frep/mesh/validate.hpp"
 #include "frep/util/memory_budget.hpp"
+#include "frep/mesh/merge_flat.hpp"
 
 namespace frep {
 namespace contour {
@@ -331,9 +332,10 @@ TriMesh retry_while_unresolved(TriMesh mesh, const MeshPass& pass, const std::fu
   return mesh;
 }
 
-// Simplifies the finished mesh in place (MeshOptions::max_error), then validates the result as a
-// solid: collapses are checked one by one, but a solid is what frep promises, so a result that
-// fails (never seen) gives way to the uniform mesh, said in the stats.
+// Merges the finished mesh's flat regions (MeshOptions::merge_flat) and simplifies it
+// (MeshOptions::max_error), in place, then validates the result as a solid: both steps keep one
+// by construction, but a solid is what frep promises, so a result that fails (never seen) gives
+// way to the uniform mesh, said in the stats.
 void simplify_output(const Tape& tape, const MeshOptions& o, TriMesh& mesh, MeshControl& control, MeshStats& st) {
   const auto t0 = Clock::now();
   SimplifyOptions so;
@@ -344,10 +346,24 @@ void simplify_output(const Tape& tape, const MeshOptions& o, TriMesh& mesh, Mesh
   so.max_error = o.max_error_in_cells ? o.max_error * st.cell_size : o.max_error;
   st.max_error = so.max_error;
   st.triangles_before_simplify = mesh.triangles.size();
-  TriMesh simple = simplify_mesh(mesh, tape, so, nullptr);
+  TriMesh simple;
+  if (o.merge_flat) {
+    MergeFlatReport fr;
+    simple = merge_flat_regions(mesh, kFlatTolerance * st.cell_size, &fr);
+    st.flat_regions = fr.regions;
+  }
+  // Nothing flat and no bound: the mesh stays as the mesher made it.
+  const bool changed = so.max_error > 0 || st.flat_regions > 0;
+  if (so.max_error > 0) simple = simplify_mesh(o.merge_flat ? simple : mesh, tape, so, nullptr);
   ValidationOptions vo;
   vo.threads = o.threads;
-  if (validate_mesh(simple, vo).is_solid()) {
+  // Flat regions merged only: merge_flat_regions has checked what it changed, its new triangles
+  // against those near them (the validator's exact test) and their edges paired; the rest of the
+  // mesh is the mesher's, so a whole validation would only repeat that (at the cost of meshing).
+  const bool checked = so.max_error <= 0;
+  if (!changed) {
+    // kept as is
+  } else if (checked || validate_mesh(simple, vo).is_solid()) {
     mesh = std::move(simple);
   } else {
     st.simplify_rejected = true;
@@ -391,7 +407,7 @@ TriMesh Mesher::mesh(const Tape& tape) {
   mesh = retry_while_unresolved(std::move(mesh), pass, [&] { return control.cancelled(); }, st);
   // Only a mesh without unresolved vertices is a solid to start from: the checks of every
   // collapse assume one.
-  if (o.max_error > 0 && st.unresolved == 0 && !mesh.triangles.empty()) simplify_output(tape, o, mesh, control, st);
+  if ((o.max_error > 0 || o.merge_flat) && st.unresolved == 0 && !mesh.triangles.empty()) simplify_output(tape, o, mesh, control, st);
   return mesh;
 }
 

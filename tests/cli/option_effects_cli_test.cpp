@@ -357,28 +357,35 @@ TEST_F(OptionEffects, ConvertThreadsLeaveTheResultAlone) {
 // ---------------------------------------------------------------------------------------------
 // frep mesh
 
-// --max-error: off by default (the uniform mesh, as --max-error 0 gives, byte for byte); given,
-// in cells or model units, far fewer triangles, still a valid solid, vertices within the bound
-// of the box's surface (a box: every vertex of the uniform mesh is on it already).
+// --max-error: by default (`flat`) flat regions merge and nothing else: a box comes out as about
+// its 12 triangles, every vertex on it; 0 is the uniform mesh of the grid; a bound, in cells or model
+// units, simplifies too. Every output a valid solid with its vertices on the box's surface.
 TEST_F(OptionEffects, MeshMaxErrorSimplifiesOnlyWhenAsked) {
   const std::string box_vm = path("box.vm");
   test::write_text(box_vm, "0 var-x\n1 var-y\n2 var-z\n3 abs 0\n4 abs 1\n5 abs 2\n6 const 0.5\n7 sub 3 6\n8 sub 4 6\n"
                            "9 sub 5 6\n10 max 7 8\n11 max 10 9\n");
   std::vector<std::string> files;
-  for (const std::string opt : {"", "--max-error 0", "--max-error 0.05c", "--max-error 0.002"}) {
+  for (const std::string opt : {"", "--max-error flat", "--max-error 0", "--max-error 0.05c", "--max-error 0.002"}) {
     files.push_back(path("box" + std::to_string(files.size()) + ".stl"));
     const CliRun r = run("mesh " + box_vm + " -q -r 32 --bounds -1,-1,-1,1,1,1 " + opt + " -o " + test::shell_quote(files.back()));
     ASSERT_EQ(r.code, 0) << opt << ": " << r.err;
   }
-  EXPECT_EQ(test::read_text(files[0]), test::read_text(files[1])) << "the default is the uniform mesh";
-  const TriMesh uniform = read_mesh(files[0]);
-  for (std::size_t i = 2; i < files.size(); ++i) {
+  EXPECT_EQ(test::read_text(files[0]), test::read_text(files[1])) << "the default is flat";
+  const TriMesh uniform = read_mesh(files[2]);
+  EXPECT_EQ(uniform.triangles.size(), 6u * 16 * 16 * 2) << "0: the uniform mesh";
+  // A box's faces, two triangles each, and a few more where the grid's corner vertices sit a
+  // millionth off the corners (the box's faces lie on grid planes here).
+  EXPECT_LE(read_mesh(files[0]).triangles.size(), 24u) << "flat";
+  for (std::size_t i = 0; i < files.size(); ++i) {
     const TriMesh m = read_mesh(files[i]);
     EXPECT_TRUE(validate_mesh(m).is_solid()) << files[i];
-    EXPECT_LT(m.triangles.size() * 10, uniform.triangles.size()) << files[i] << ": flat faces merge";
+    if (i != 2) EXPECT_LT(m.triangles.size() * 10, uniform.triangles.size()) << files[i] << ": flat faces merge";
     for (const Vec3& v : m.vertices)
       EXPECT_NEAR(std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}), 0.5, 1e-5) << files[i];
   }
+  const CliRun bad = run("mesh " + box_vm + " -q -r 32 --max-error flat0 -o " + test::shell_quote(path("bad.stl")));
+  EXPECT_NE(bad.code, 0);
+  EXPECT_NE(bad.err.find("flat or a number"), std::string::npos) << bad.err;
 }
 
 // --snap-iterations: Newton steps moving the snap method's vertices onto the surface. With none

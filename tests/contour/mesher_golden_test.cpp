@@ -70,6 +70,7 @@ void expect_golden(const Case& c) {
 MeshOptions with(int resolution, Box3 bounds = {}, MeshMethod method = MeshMethod::DualContouring) {
   MeshOptions o = test::options(resolution, bounds, method);
   o.threads = 2;
+  o.merge_flat = false;  // the grid's own mesh
   return o;
 }
 

@@ -81,7 +81,9 @@ TEST(MeshSimplify, BoxKeepsItsCornersAndFlatFacesBecomeFewTriangles) {
   MeshOptions o;
   o.resolution = 64;
   o.lipschitz = 1;
+  o.merge_flat = false;
   const TriMesh uniform = mesh_expression(tape, o);
+  o.merge_flat = true;
   o.max_error = 0.05;
   o.max_error_in_cells = true;
   MeshStats st;
@@ -132,6 +134,7 @@ TEST(MeshSimplify, ZeroErrorIsTheUniformMeshExactly) {
   const Expr e = min(sqrt(square(x) + square(y) + square(z)) - 0.7f, max(max(abs(x) - 0.9f, abs(y) - 0.2f), abs(z) - 0.3f));
   MeshOptions o;
   o.resolution = 40;
+  o.merge_flat = false;
   const TriMesh a = mesh_expression(e, o);
   o.max_error = 0;
   o.max_error_in_cells = true;
