@@ -102,7 +102,7 @@ void register_mesh(CLI::App& app) {
     o.snap.gradient = a->gradient == "central" ? SnapGradient::CentralDifferences : SnapGradient::Analytic;
     o.snap.iterations = a->snap_iterations;
     o.threads = a->threads;
-    set_max_error(a->max_error, o);
+    apply_max_error(a->max_error, o);
     check_output_path(a->output, a->input);
 
     const Model m = load_input(a->input, a->quiet, nullptr, a->repair);

@@ -106,7 +106,7 @@ void write_field_output(const std::string& input, const std::string& path, const
   mo.resolution = o.resolution;
   mo.threads = o.threads;
   mo.lipschitz = std::max(0.0, o.lipschitz);
-  set_max_error(o.max_error, mo);
+  apply_max_error(o.max_error, mo);
   if (!o.bounds.empty())
     mo.bounds = region;  // exactly as given: cut and capped where the shape reaches it
   else

@@ -119,20 +119,6 @@ void print_mesh_notes(const MeshStats& st) {
                st.triangles_before_simplify, st.triangles, st.seconds_simplify);
 }
 
-namespace {
-// "0.25c" -> (0.25, cells); "0.01" -> (0.01, units); "flat" -> (0, cells); false unless a finite
-// number >= 0 or "flat".
-bool parse_max_error(std::string s, double& v, bool& cells) {
-  if (s == "flat") {
-    v = 0, cells = true;
-    return true;
-  }
-  cells = !s.empty() && s.back() == 'c';
-  if (cells) s.pop_back();
-  return CLI::detail::lexical_cast(s, v) && std::isfinite(v) && v >= 0;
-}
-}  // namespace
-
 void add_max_error_option(CLI::App* cmd, std::string& value) {
   value = kDefaultMaxError;
   cmd->add_option("--max-error", value,
@@ -141,9 +127,8 @@ void add_max_error_option(CLI::App* cmd, std::string& value) {
                   "(0.05c: a twentieth of a cell, invisible; 0.5c for scans); 0: the uniform mesh of the grid")
       ->check(CLI::Validator(
           [](std::string& s) -> std::string {
-            double v = 0;
-            bool cells = false;
-            if (!parse_max_error(s, v, cells))
+            MeshOptions o;
+            if (!frep::set_max_error(o, s))
               return "the maximum error must be flat or a number >= 0, in model units or followed by c (cells), got " + s;
             return {};
           },
@@ -151,13 +136,8 @@ void add_max_error_option(CLI::App* cmd, std::string& value) {
       ->capture_default_str();
 }
 
-void set_max_error(const std::string& value, MeshOptions& o) {
-  double v = 0;
-  bool cells = false;
-  if (!parse_max_error(value, v, cells)) throw CLI::ValidationError("--max-error", "not flat nor a number >= 0: " + value);
-  o.max_error = v;
-  o.max_error_in_cells = cells;
-  o.merge_flat = value == "flat" || v > 0;
+void apply_max_error(const std::string& value, MeshOptions& o) {
+  if (!frep::set_max_error(o, value)) throw CLI::ValidationError("--max-error", "not flat nor a number >= 0: " + value);
 }
 
 Box3 bounds_option(const std::vector<double>& b) {

@@ -45,11 +45,11 @@ void add_lipschitz_option(CLI::App* cmd, double& value);
 // --max-error: `flat` (the default) merges flat regions only (MeshOptions::merge_flat: the surface
 // keeps its points, at a few percent of the meshing's time); E (model units) or Nc (N cells)
 // simplifies within that bound (MeshOptions::max_error; several times the meshing's time, so
-// asked for); 0 keeps the uniform mesh of the grid. `set_max_error` puts a checked value in the
+// asked for); 0 keeps the uniform mesh of the grid. `apply_max_error` puts a checked value in the
 // options.
 inline constexpr const char* kDefaultMaxError = "flat";
 void add_max_error_option(CLI::App* cmd, std::string& value);
-void set_max_error(const std::string& value, MeshOptions& o);
+void apply_max_error(const std::string& value, MeshOptions& o);
 // The bound to use: the option's value if given, else the model's own (1 for a converted mesh or
 // a file frep convert wrote; 0, unknown, for other files).
 inline double lipschitz_of(const Model& m, double option) { return option >= 0 ? option : m.info.lipschitz; }

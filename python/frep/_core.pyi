@@ -69,6 +69,7 @@ class Field:
         bounds: _Bounds | None = None,
         method: Literal["dc", "snap"] = "dc",
         threads: int | None = None,
+        max_error: float | str = "flat",
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.uint32]]: ...
     def render(
         self,

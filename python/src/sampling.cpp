@@ -86,8 +86,13 @@ py::array_t<float> sample_points_of(const PyField& f, std::size_t count, const s
 }
 
 py::tuple mesh_of_field(const PyField& f, const std::optional<int>& resolution, const std::optional<double>& cell,
-                        const py::object& bounds, const std::string& method, const std::optional<int>& threads) {
+                        const py::object& bounds, const std::string& method, const std::optional<int>& threads,
+                        const py::object& max_error) {
   MeshOptions o;
+  // "flat", a number (model units) or "Nc" (cells), as `frep mesh --max-error`.
+  const std::string error_text = py::str(max_error);
+  if (!set_max_error(o, error_text))
+    throw py::value_error("max_error is 'flat', a number >= 0 (model units) or 'Nc' (N cells), got '" + error_text + "'");
   if (resolution && cell) throw py::value_error("give resolution= or cell=, not both");
   if (resolution) o.resolution = *resolution;
   if (cell) o.cell_size = *cell;
@@ -215,10 +220,13 @@ void bind_sampling(py::module_& m) {
            "sigma) write them; the same seed gives the same rows for any thread count.")
       .def("mesh", &mesh_of_field, py::arg("resolution") = py::none(), py::arg("cell") = py::none(),
            py::arg("bounds") = py::none(), py::arg("method") = "dc", py::arg("threads") = py::none(),
+           py::arg("max_error") = "flat",
            "(vertices float64 N x 3, faces uint32 M x 3): a closed, manifold, outward-oriented triangle mesh of where "
            "the field is negative, as `frep mesh` makes it. resolution: cells across the longest side (default 128), "
            "or cell: the cell edge. bounds: the region (default: the box the field carries, else found by interval "
-           "search; a shape reaching given bounds is cut and capped there). method: 'dc' (dual contouring) or 'snap'.")
+           "search; a shape reaching given bounds is cut and capped there). method: 'dc' (dual contouring) or 'snap'. "
+           "max_error: 'flat' merges flat regions only (the surface keeps its points), 0 keeps the uniform mesh of "
+           "the grid, a number (model units) or 'Nc' (N cells, e.g. '0.05c') simplifies within that bound.")
       .def("render", &render_of, py::arg("size") = 512, py::arg("view") = "iso", py::arg("mode") = "shaded",
            py::arg("bounds") = py::none(), py::arg("z_up") = false, py::arg("yaw") = 0.0, py::arg("pitch") = 0.0,
            py::arg("ao") = false, py::arg("threads") = py::none(),

@@ -28,6 +28,19 @@ def test_mesh_of_a_loaded_mesh(mesh_path):
     assert np.allclose(np.abs(v).max(axis=0), 0.5, atol=1e-3)
 
 
+def test_mesh_max_error_as_frep_mesh():
+    box = frep.box((-0.3, -0.2, -0.1), (0.3, 0.25, 0.2))
+    v0, f0 = box.mesh(resolution=32, max_error=0)  # the uniform mesh of the grid
+    vf, ff = box.mesh(resolution=32)  # default: flat regions merged
+    vs, fs = box.mesh(resolution=32, max_error="0.05c")
+    assert len(f0) > 1000 and len(ff) <= 24 and len(fs) <= 24
+    for v, f in ((v0, f0), (vf, ff), (vs, fs)):
+        assert edges_shared_twice(f)
+        assert frep.check((v, f))["is_solid"]
+    with pytest.raises(ValueError, match="max_error"):
+        box.mesh(resolution=8, max_error="-1")
+
+
 def test_mesh_with_bounds_is_capped():
     v, f = frep.plane((0, 0, 1), 0).mesh(resolution=8, bounds=((-1, -1, -1), (1, 1, 1)))
     assert edges_shared_twice(f)

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <new>
@@ -374,6 +375,20 @@ void simplify_output(const Tape& tape, const MeshOptions& o, TriMesh& mesh, Mesh
 }
 
 }  // namespace contour
+
+bool set_max_error(MeshOptions& o, std::string_view text) {
+  if (text == "flat") {
+    o.max_error = 0, o.max_error_in_cells = true, o.merge_flat = true;
+    return true;
+  }
+  const bool cells = !text.empty() && text.back() == 'c';
+  if (cells) text.remove_suffix(1);
+  double v = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v) || !(v >= 0)) return false;
+  o.max_error = v, o.max_error_in_cells = cells, o.merge_flat = v > 0;
+  return true;
+}
 
 struct Mesher::Impl {
   MeshOptions o;

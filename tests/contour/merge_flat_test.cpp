@@ -166,5 +166,29 @@ TEST(MergeFlat, BracketAtTheDemoResolutionByDefault) {
   EXPECT_FALSE(test::cgal_self_intersects(merged));
 }
 
+// The text of `--max-error` (and Python's max_error): flat, 0, a bound in units or cells.
+TEST(MeshOptionsText, MaxError) {
+  MeshOptions o;
+  ASSERT_TRUE(set_max_error(o, "0"));
+  EXPECT_EQ(o.max_error, 0);
+  EXPECT_FALSE(o.merge_flat);
+  ASSERT_TRUE(set_max_error(o, "flat"));
+  EXPECT_EQ(o.max_error, 0);
+  EXPECT_TRUE(o.merge_flat);
+  ASSERT_TRUE(set_max_error(o, "0.05c"));
+  EXPECT_EQ(o.max_error, 0.05);
+  EXPECT_TRUE(o.max_error_in_cells);
+  EXPECT_TRUE(o.merge_flat);
+  ASSERT_TRUE(set_max_error(o, "0.01"));
+  EXPECT_EQ(o.max_error, 0.01);
+  EXPECT_FALSE(o.max_error_in_cells);
+  for (const char* bad : {"", "c", "-1", "-0.5c", "abc", "1e999", "nan", "inf", "0.05cc", "flat0", "0.1 "}) {
+    MeshOptions b;
+    b.max_error = 7;
+    EXPECT_FALSE(set_max_error(b, bad)) << bad;
+    EXPECT_EQ(b.max_error, 7) << bad << ": untouched";
+  }
+}
+
 }  // namespace
 }  // namespace frep

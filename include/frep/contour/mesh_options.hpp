@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <functional>
 #include <stdexcept>
+#include <string_view>
 #include <vector>
 
 #include "frep/contour/bounds.hpp"
@@ -128,6 +129,12 @@ struct MeshStats {
   double seconds_simplify = 0;
   bool simplify_rejected = false;
 };
+
+// Sets max_error, max_error_in_cells and merge_flat from the text users give (`--max-error`):
+// "flat" merges flat regions only, "0" keeps the uniform mesh, and a bound in model units
+// ("0.01") or cells ("0.05c") simplifies (flat regions first). False, options untouched, for
+// anything else (not a number, negative, not finite).
+bool set_max_error(MeshOptions& o, std::string_view text);
 
 class MeshCancelled : public std::runtime_error {
  public:
