@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <deque>
 #include <exception>
 #include <vector>
 
@@ -121,10 +120,16 @@ class FlatMerger {
       const unsigned pi[3] = {tr[0], tr[1], tr[2]};
       Box3 box;
       for (const Vec3& x : p) box.add(x);
+      const bool flat_tr = !(length2(cross(p[1] - p[0], p[2] - p[0])) > 0);
       bvh.for_each_meeting(box, [&](std::uint32_t j) {
         const Triangle& o = fresh.triangles[j];
         if (o == tr) return;
+        // The same corners in another order (the pair test calls that a duplicate, not a
+        // contact): a hole filled with its own triangle turned over.
+        if (same_corners(o, tr)) return bad.push_back(owner[j]);
         const Vec3 q[3] = {P_[o[0]], P_[o[1]], P_[o[2]]};
+        if (!(length2(cross(q[1] - q[0], q[2] - q[0])) > 0)) return bad.push_back(owner[j]);  // a new one spans no plane
+        if (flat_tr) return;  // an old one without area: the pair test needs a plane
         const unsigned qi[3] = {o[0], o[1], o[2]};
         if (classify_triangle_pair(p, pi, q, qi) != Contact::None) bad.push_back(owner[j]);
       });
@@ -132,29 +137,63 @@ class FlatMerger {
     return bad;
   }
 
+  static bool same_corners(Triangle a, Triangle b) {
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    return a == b;
+  }
+
   // The regions with a new triangle's edge that is not run once each way by the triangles of
   // `out` (the surface must stay closed and consistently oriented around what changed). Only
   // edges at the new triangles' vertices are gathered.
   std::vector<std::uint32_t> unpaired(const std::vector<Triangle>& out, const std::vector<std::vector<Triangle>>& made,
                                       const std::vector<char>& redone) const {
-    std::vector<std::uint32_t> owner(P_.size(), kNone);  // per vertex of a new triangle: a region it is in
+    std::vector<std::array<std::uint32_t, 2>> owner(P_.size(), {kNone, kNone});  // per vertex: up to two regions of new triangles at it
     for (std::uint32_t r = 0; r < regions_.size(); ++r)
       if (redone[r])
         for (const Triangle& tr : made[r])
-          for (std::uint32_t v : tr) owner[v] = r;
+          for (std::uint32_t v : tr) {
+            auto& o = owner[v];
+            if (o[0] == kNone || o[0] == r) o[0] = r;
+            else if (o[1] == kNone) o[1] = r;
+          }
     std::vector<std::uint64_t> edges;  // directed, a << 32 | b
+    std::vector<std::array<std::uint32_t, 3>> corners;  // (v, a, b) for each triangle (v, a, b) at a touched v
     for (const Triangle& tr : out)
       for (int k = 0; k < 3; ++k) {
-        const std::uint32_t a = tr[static_cast<std::size_t>(k)], b = tr[static_cast<std::size_t>((k + 1) % 3)];
-        if (owner[a] != kNone || owner[b] != kNone) edges.push_back(std::uint64_t(a) << 32 | b);
+        const std::uint32_t v = tr[static_cast<std::size_t>(k)], a = tr[static_cast<std::size_t>((k + 1) % 3)],
+                            b = tr[static_cast<std::size_t>((k + 2) % 3)];
+        if (owner[v][0] != kNone || owner[a][0] != kNone) edges.push_back(std::uint64_t(v) << 32 | a);
+        if (owner[v][0] != kNone) corners.push_back({v, a, b});
       }
     std::sort(edges.begin(), edges.end());
     std::vector<std::uint32_t> bad;
+    auto blame = [&](std::uint32_t v) {
+      for (std::uint32_t r : owner[v])
+        if (r != kNone) bad.push_back(r);
+    };
     for (std::size_t i = 0; i < edges.size(); ++i) {
       const std::uint32_t a = static_cast<std::uint32_t>(edges[i] >> 32), b = static_cast<std::uint32_t>(edges[i]);
       const bool twice = i + 1 < edges.size() && edges[i + 1] == edges[i];
       const bool back = std::binary_search(edges.begin(), edges.end(), std::uint64_t(b) << 32 | a);
-      if (twice || !back) bad.push_back(owner[a] != kNone ? owner[a] : owner[b]);
+      if (twice || !back) blame(a), blame(b);
+    }
+    // One fan per vertex: its triangles' far edges (a -> b) chain into a single cycle (two
+    // fans sharing the vertex pass the edge test but pinch the surface there).
+    std::sort(corners.begin(), corners.end());
+    for (std::size_t i = 0; i < corners.size();) {
+      std::size_t j = i;
+      while (j < corners.size() && corners[j][0] == corners[i][0]) ++j;
+      std::size_t steps = 0;
+      std::uint32_t at = corners[i][1];
+      do {
+        const auto it = std::lower_bound(corners.begin() + static_cast<std::ptrdiff_t>(i), corners.begin() + static_cast<std::ptrdiff_t>(j),
+                                         std::array<std::uint32_t, 3>{corners[i][0], at, 0});
+        if (it == corners.begin() + static_cast<std::ptrdiff_t>(j) || (*it)[1] != at) break;
+        at = (*it)[2];
+      } while (++steps <= j - i && at != corners[i][1]);
+      if (at != corners[i][1] || steps != j - i) blame(corners[i][0]);
+      i = j;
     }
     return bad;
   }
@@ -191,7 +230,7 @@ class FlatMerger {
   void grow_regions() {
     const std::size_t nt = T_.size();
     region_.assign(nt, kNone);
-    std::deque<std::uint32_t> queue;
+    std::vector<std::uint32_t> queue;
     for (std::uint32_t seed = 0; seed < nt; ++seed) {
       if (region_[seed] != kNone) continue;
       const std::uint32_t r = static_cast<std::uint32_t>(regions_.size());
@@ -199,15 +238,15 @@ class FlatMerger {
       Region& g = regions_.back();
       region_[seed] = r;
       g.add(P_[T_[seed][0]], P_[T_[seed][1]], P_[T_[seed][2]]);
-      queue.push_back(seed);
-      while (!queue.empty()) {
-        const std::uint32_t t = queue.front();
-        queue.pop_front();
+      if (!(g.area > 0)) continue;  // a degenerate seed spans no plane to grow in
+      Vec3 n = g.normal(), c = g.origin();
+      queue.assign({seed});
+      for (std::size_t head = 0; head < queue.size(); ++head) {
+        const std::uint32_t t = queue[head];
         for (std::uint32_t e : topo_.triangle_edges(t)) {
           if (e == kNone) continue;
           const std::uint32_t o = across(t, e);
-          if (o == kNone || region_[o] != kNone || !(g.area > 0)) continue;
-          const Vec3 n = g.normal(), c = g.origin();
+          if (o == kNone || region_[o] != kNone) continue;
           const Vec3& no = topo_.face_normal(o);
           if (length2(no) > 0 && !(dot(no, n) > 0.5)) continue;
           bool in = true;
@@ -215,6 +254,7 @@ class FlatMerger {
           if (!in) continue;
           region_[o] = r;
           g.add(P_[T_[o][0]], P_[T_[o][1]], P_[T_[o][2]]);
+          n = g.normal(), c = g.origin();
           queue.push_back(o);
         }
       }
@@ -230,8 +270,13 @@ class FlatMerger {
       if (start_[r + 1] - start_[r] < 2 || !(g.area > 0)) continue;
       const Vec3 n = g.normal(), c = g.origin();
       bool flat = std::isfinite(n.x) && std::isfinite(c.x);
-      for (std::uint32_t i = start_[r]; flat && i < start_[r + 1]; ++i)
+      for (std::uint32_t i = start_[r]; flat && i < start_[r + 1]; ++i) {
+        // Every triangle facing the final plane's way (one grown in at 60 degrees to an early
+        // estimate could project turned over, and its hole would be filled).
+        const Vec3& fn = topo_.face_normal(members_[i]);
+        flat = !(length2(fn) > 0) || dot(fn, n) > 0.5;
         for (std::uint32_t v : T_[members_[i]]) flat = flat && std::fabs(dot(P_[v] - c, n)) <= tol_;
+      }
       g.flat = flat;
     }
   }
@@ -323,6 +368,7 @@ class FlatMerger {
       seen[v] = 1;
       run.push_back(c);
       keep_bends(run, 0, run.size() - 1);
+      if (run.front() == run.back()) keep_three(run);
     }
   }
 
@@ -348,6 +394,27 @@ class FlatMerger {
     removed_[run[worst]] = 0;
     keep_bends(run, i, worst);
     keep_bends(run, worst, j);
+  }
+
+  // A loop keeps at least three vertices (two would make the two regions' outlines one edge run
+  // both ways, which cannot be triangulated): the one farthest from the line of the kept ones.
+  void keep_three(const std::vector<std::uint32_t>& loop) {
+    std::vector<std::uint32_t> kept;
+    for (std::size_t k = 0; k + 1 < loop.size(); ++k)
+      if (!removed_[loop[k]]) kept.push_back(loop[k]);
+    while (kept.size() < 3 && kept.size() + 1 < loop.size()) {
+      std::size_t best = 0;
+      double far = -1;
+      for (std::size_t k = 1; k + 1 < loop.size(); ++k) {
+        if (!removed_[loop[k]]) continue;
+        double d = length(P_[loop[k]] - P_[kept[0]]);
+        if (kept.size() == 2) between(P_[loop[k]], P_[kept[0]], P_[kept[1]], d);
+        if (d > far) far = d, best = k;
+      }
+      if (far < 0) break;
+      removed_[loop[best]] = 0;
+      kept.push_back(loop[best]);
+    }
   }
 
   bool touches_removed(std::uint32_t r) const {
@@ -423,6 +490,7 @@ class FlatMerger {
     }
     for (const auto& [a, b] : segments)
       if (!cdt.is_edge(local_[a], local_[b])) return false;  // split by a vertex on it
+    if (cdt.dimension() != 2) return false;
     // Inside: faces behind an odd number of outline edges from the infinite face.
     for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) f->info() = -1;
     std::vector<Cdt::Edge> border;
