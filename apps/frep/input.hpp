@@ -43,7 +43,7 @@ Box3 bounds_option(const std::vector<double>& values);
 void add_lipschitz_option(CLI::App* cmd, double& value);
 
 // --max-error: `flat` (the default) merges flat regions only (MeshOptions::merge_flat: the surface
-// keeps its points, at a few percent of the meshing's time); E (model units) or Nc (N cells)
+// keeps its points, for at most half the meshing's time again); E (model units) or Nc (N cells)
 // simplifies within that bound (MeshOptions::max_error; several times the meshing's time, so
 // asked for); 0 keeps the uniform mesh of the grid. `apply_max_error` puts a checked value in the
 // options.
