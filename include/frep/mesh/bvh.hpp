@@ -147,14 +147,25 @@ void TriangleBvh::for_each_meeting(const Box3& box, F&& f) const {
   const auto meets = [&](const float* lo, const float* hi) {
     return Box3{{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}.meets(box);
   };
-  std::vector<std::uint32_t> stack{0};
-  while (!stack.empty()) {
-    const Node& n = nodes_[stack.back()];
-    stack.pop_back();
+  // Queries are many and small (one per triangle of a mesh, in the validator and the flat
+  // merge): the stack lives on the call's frame up to 64 levels, and spills to the heap deeper.
+  std::uint32_t fixed[64];
+  std::size_t top = 0;
+  std::vector<std::uint32_t> spill;
+  const auto push = [&](std::uint32_t i) {
+    if (top < 64) fixed[top++] = i;
+    else spill.push_back(i);
+  };
+  push(0);
+  while (top > 0 || !spill.empty()) {
+    std::uint32_t i;
+    if (!spill.empty()) i = spill.back(), spill.pop_back();
+    else i = fixed[--top];
+    const Node& n = nodes_[i];
     if (!meets(n.lo, n.hi)) continue;
     if (!n.leaf()) {
-      stack.push_back(n.index);
-      stack.push_back(n.index + 1);
+      push(n.index);
+      push(n.index + 1);
       continue;
     }
     for (std::uint32_t i = n.index; i < n.index + n.count; ++i)
