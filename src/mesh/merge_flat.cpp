@@ -74,7 +74,7 @@ class FlatMerger {
       }
       if (again) continue;
       out = assemble(made, redone);
-      std::vector<std::uint32_t> bad = meeting(out, made, redone);
+      std::vector<std::uint32_t> bad = meeting(made, redone);
       const std::vector<std::uint32_t> open = unpaired(out, made, redone);
       bad.insert(bad.end(), open.begin(), open.end());
       std::sort(bad.begin(), bad.end());
@@ -104,8 +104,7 @@ class FlatMerger {
   // cover their region's points only to the tolerance, so where another part of the surface
   // comes that close, a region could now touch it. Returns the regions whose new triangles meet
   // another triangle.
-  std::vector<std::uint32_t> meeting(const std::vector<Triangle>& out, const std::vector<std::vector<Triangle>>& made,
-                                     const std::vector<char>& redone) const {
+  std::vector<std::uint32_t> meeting(const std::vector<std::vector<Triangle>>& made, const std::vector<char>& redone) const {
     TriMesh fresh;
     fresh.vertices = P_;
     std::vector<std::uint32_t> owner;
@@ -115,15 +114,19 @@ class FlatMerger {
     std::vector<std::uint32_t> bad;
     if (fresh.triangles.empty()) return bad;
     const TriangleBvh bvh(fresh);
-    for (const Triangle& tr : out) {
+    // Each kept old triangle against the new ones, and each new one against those of other
+    // regions: one region's new triangles are a triangulation of a polygon in its plane (exact
+    // predicates in the plane), which cannot overlap, and near the plane what does not overlap
+    // in it does not cross.
+    auto check = [&](const Triangle& tr, std::uint32_t region) {
       const Vec3 p[3] = {P_[tr[0]], P_[tr[1]], P_[tr[2]]};
       const unsigned pi[3] = {tr[0], tr[1], tr[2]};
       Box3 box;
       for (const Vec3& x : p) box.add(x);
       const bool flat_tr = !(length2(cross(p[1] - p[0], p[2] - p[0])) > 0);
       bvh.for_each_meeting(box, [&](std::uint32_t j) {
+        if (owner[j] == region) return;
         const Triangle& o = fresh.triangles[j];
-        if (o == tr) return;
         // The same corners in another order (the pair test calls that a duplicate, not a
         // contact): a hole filled with its own triangle turned over.
         if (same_corners(o, tr)) return bad.push_back(owner[j]);
@@ -133,7 +136,10 @@ class FlatMerger {
         const unsigned qi[3] = {o[0], o[1], o[2]};
         if (classify_triangle_pair(p, pi, q, qi) != Contact::None) bad.push_back(owner[j]);
       });
-    }
+    };
+    for (std::uint32_t t = 0; t < T_.size(); ++t)
+      if (!redone[region_[t]]) check(T_[t], kNone);
+    for (std::size_t j = 0; j < fresh.triangles.size(); ++j) check(fresh.triangles[j], owner[j]);
     return bad;
   }
 
