@@ -353,21 +353,18 @@ void simplify_output(const Tape& tape, const MeshOptions& o, TriMesh& mesh, Mesh
     simple = merge_flat_regions(mesh, kFlatTolerance * st.cell_size, &fr);
     st.flat_regions = fr.regions;
   }
-  // Nothing flat and no bound: the mesh stays as the mesher made it.
-  const bool changed = so.max_error > 0 || st.flat_regions > 0;
-  if (so.max_error > 0) simple = simplify_mesh(o.merge_flat ? simple : mesh, tape, so, nullptr);
-  ValidationOptions vo;
-  vo.threads = o.threads;
-  // Flat regions merged only: merge_flat_regions has checked what it changed, its new triangles
-  // against those near them (the validator's exact test) and their edges paired; the rest of the
-  // mesh is the mesher's, so a whole validation would only repeat that (at the cost of meshing).
-  const bool checked = so.max_error <= 0;
-  if (!changed) {
-    // kept as is
-  } else if (checked || validate_mesh(simple, vo).is_solid()) {
+  if (so.max_error > 0) {
+    simple = simplify_mesh(o.merge_flat ? simple : mesh, tape, so, nullptr);
+    ValidationOptions vo;
+    vo.threads = o.threads;
+    if (validate_mesh(simple, vo).is_solid()) mesh = std::move(simple);
+    else st.simplify_rejected = true;
+  } else if (st.flat_regions > 0) {
+    // Flat regions merged only: merge_flat_regions has checked what it changed (its new
+    // triangles against those near them with the validator's exact test, their edges and fans);
+    // the rest is the mesher's, so validating the whole mesh would repeat that at the cost of
+    // meshing. (Nothing flat: the mesh stays as the mesher made it.)
     mesh = std::move(simple);
-  } else {
-    st.simplify_rejected = true;
   }
   st.vertices = mesh.vertices.size();
   st.triangles = mesh.triangles.size();

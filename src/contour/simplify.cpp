@@ -617,21 +617,6 @@ void shells_of(const std::vector<Vec3>& P, const std::vector<Triangle>& T, std::
   }
 }
 
-// The vertices the triangles use, renumbered in their old order.
-TriMesh compact(const std::vector<Vec3>& P, const std::vector<Triangle>& T) {
-  TriMesh out;
-  std::vector<std::uint32_t> id(P.size(), 0xffffffffu);
-  for (const Triangle& tr : T)
-    for (std::uint32_t v : tr) id[v] = 0;
-  for (std::uint32_t i = 0; i < P.size(); ++i)
-    if (id[i] == 0) {
-      id[i] = static_cast<std::uint32_t>(out.vertices.size());
-      out.vertices.push_back(P[i]);
-    }
-  for (const Triangle& tr : T) out.add_triangle(id[tr[0]], id[tr[1]], id[tr[2]]);
-  return out;
-}
-
 // The regions of a round: cubes of kRegionCells cells. A triangle whose corners lie in one region
 // is that region's to change; the others (across regions) stay as they are in the round, and
 // their corners are frozen.
@@ -865,7 +850,7 @@ TriMesh simplify_mesh(const TriMesh& mesh, const Tape& tape, const SimplifyOptio
   }
   if (options.progress) options.progress(1);
   if (report) *report = rep;
-  return compact(mesh.vertices, st.T);
+  return compact_mesh(mesh.vertices, st.T);
 }
 
 }  // namespace frep::contour

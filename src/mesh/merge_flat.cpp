@@ -207,7 +207,9 @@ class FlatMerger {
   TriMesh finish(MergeFlatReport& rep, const std::vector<Triangle>& out, const std::vector<char>& redone) {
     for (std::uint32_t r = 0; r < regions_.size(); ++r) rep.regions += redone[r];
     for (char x : removed_) rep.removed += x != 0;
-    return compact(out);
+    TriMesh merged = compact_mesh(P_, out);
+    merged.name = m_.name;
+    return merged;
   }
 
  private:
@@ -541,21 +543,6 @@ class FlatMerger {
     // Same area (up to the creases straightened, each by at most the tolerance), and every kept
     // vertex still in use.
     return used == kept && std::fabs(new_area - old_area) <= 2 * tol_ * perimeter + 1e-9 * old_area;
-  }
-
-  TriMesh compact(const std::vector<Triangle>& T) const {
-    TriMesh out;
-    std::vector<std::uint32_t> id(P_.size(), kNone);
-    for (const Triangle& tr : T)
-      for (std::uint32_t v : tr) id[v] = 0;
-    for (std::uint32_t v = 0; v < P_.size(); ++v)
-      if (id[v] == 0) {
-        id[v] = static_cast<std::uint32_t>(out.vertices.size());
-        out.vertices.push_back(P_[v]);
-      }
-    for (const Triangle& tr : T) out.add_triangle(id[tr[0]], id[tr[1]], id[tr[2]]);
-    out.name = m_.name;
-    return out;
   }
 
   std::vector<Cdt::Vertex_handle> local_;  // per vertex: its point in the current triangulation

@@ -32,6 +32,21 @@ void round_vertices_to_float(TriMesh& mesh) {
   for (std::size_t i = 0; i < n; ++i) c[i] = static_cast<double>(static_cast<float>(c[i]));
 }
 
+TriMesh compact_mesh(const std::vector<Vec3>& vertices, const std::vector<Triangle>& triangles) {
+  TriMesh out;
+  constexpr std::uint32_t kUnused = 0xffffffffu;
+  std::vector<std::uint32_t> id(vertices.size(), kUnused);
+  for (const Triangle& tr : triangles)
+    for (std::uint32_t v : tr) id[v] = 0;
+  for (std::size_t v = 0; v < vertices.size(); ++v)
+    if (id[v] != kUnused) {
+      id[v] = static_cast<std::uint32_t>(out.vertices.size());
+      out.vertices.push_back(vertices[v]);
+    }
+  for (const Triangle& tr : triangles) out.add_triangle(id[tr[0]], id[tr[1]], id[tr[2]]);
+  return out;
+}
+
 Box3 bounding_box(const TriMesh& mesh) {
   Box3 b;
   for (const Triangle& t : mesh.triangles)

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cgal_test_util.hpp"
+#include "contour_test_util.hpp"
 #include "frep/contour/mesher.hpp"
 #include "frep/mesh/validate.hpp"
 #include "frep/script/load.hpp"
@@ -36,10 +37,7 @@ TEST(MesherCgal, OutputsDoNotSelfIntersect) {
   if (models.size() == 1) std::fprintf(stderr, "../shared/data is absent: only the expression is checked\n");
   for (auto& [name, m] : models) {
     for (const int res : {24, 61}) {
-      MeshOptions o;
-      o.resolution = res;
-      o.known_bounds = m.info.bounds;
-      o.lipschitz = m.info.lipschitz;
+      const MeshOptions o = test::model_options(m, res);
       const TriMesh mesh = mesh_expression(m.root_expr(), o);
       ASSERT_FALSE(mesh.triangles.empty()) << name;
       EXPECT_TRUE(validate_mesh(mesh).is_solid()) << name << " at " << res;

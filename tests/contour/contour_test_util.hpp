@@ -8,6 +8,7 @@
 #include <string>
 
 #include "frep/contour/mesher.hpp"
+#include "frep/expr/model.hpp"
 #include "frep/mesh/validate.hpp"
 
 namespace frep::test {
@@ -47,6 +48,15 @@ inline TriMesh mesh_solid(const Tape& tape, const MeshOptions& o, const std::str
 }
 inline TriMesh mesh_solid(Expr e, const MeshOptions& o, const std::string& what, MeshStats* stats = nullptr) {
   return mesh_solid(Tape::compile(e.graph(), e.id()), o, what, stats);
+}
+
+// Options for meshing a loaded model as `frep mesh` does: its box and Lipschitz bound.
+inline MeshOptions model_options(const Model& m, int resolution) {
+  MeshOptions o;
+  o.resolution = resolution;
+  o.known_bounds = m.info.bounds;
+  o.lipschitz = m.info.lipschitz;
+  return o;
 }
 
 inline MeshOptions options(int resolution, Box3 bounds = Box3{{-1, -1, -1}, {1, 1, 1}},

@@ -156,10 +156,7 @@ TEST(MergeFlat, ThinSlabsStaySolid) {
 TEST(MergeFlat, BracketAtTheDemoResolutionByDefault) {
   const Model m = load_field(FREP_SOURCE_DIR "/examples/bracket.obj");
   const Tape tape = Tape::compile(*m.graph, m.root);
-  MeshOptions o;
-  o.resolution = 128;
-  o.known_bounds = m.info.bounds;
-  o.lipschitz = m.info.lipschitz;
+  const MeshOptions o = test::model_options(m, 128);
   MeshStats st;
   const TriMesh merged = test::mesh_solid(tape, o, "bracket", &st);
   EXPECT_EQ(st.triangles_before_simplify, 58120u);

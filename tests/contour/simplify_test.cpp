@@ -152,10 +152,7 @@ TEST(MeshSimplify, ZeroErrorIsTheUniformMeshExactly) {
 TEST(MeshSimplify, BracketAtTheDemoResolution) {
   const Model m = load_field(FREP_SOURCE_DIR "/examples/bracket.obj");
   const Tape tape = Tape::compile(*m.graph, m.root);
-  MeshOptions o;
-  o.resolution = 128;
-  o.known_bounds = m.info.bounds;
-  o.lipschitz = m.info.lipschitz;
+  MeshOptions o = test::model_options(m, 128);
   o.max_error = 0.05;
   o.max_error_in_cells = true;
   MeshStats st;
@@ -197,10 +194,7 @@ TEST(MeshSimplify, RandomShapesAndSharedModelsStaySolid) {
     if (std::filesystem::exists(kData + f)) models.emplace_back(f, load_field(kData + f));
   for (auto& [name, m] : models) {
     const Tape tape = Tape::compile(*m.graph, m.root);
-    MeshOptions o;
-    o.resolution = 48;
-    o.known_bounds = m.info.bounds;
-    o.lipschitz = m.info.lipschitz;
+    MeshOptions o = test::model_options(m, 48);
     o.max_error = 0.1;
     o.max_error_in_cells = true;
     MeshStats st;

@@ -58,6 +58,10 @@ struct TriMesh {
 // Axis-aligned bounding box of the vertices that triangles use (of all vertices if none is used).
 Box3 bounding_box(const TriMesh& mesh);
 
+// The mesh of `triangles` with only the vertices they use, renumbered in their old order (what is
+// left after triangles were removed or replaced).
+TriMesh compact_mesh(const std::vector<Vec3>& vertices, const std::vector<Triangle>& triangles);
+
 // Rounds every vertex coordinate to the nearest float (what formats that store floats, STL, keep).
 void round_vertices_to_float(TriMesh& mesh);
 
