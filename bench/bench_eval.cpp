@@ -10,6 +10,7 @@
 #include <set>
 
 #include "frep/eval/evaluators.hpp"
+#include "frep/eval/interval_batch.hpp"
 #include "frep/eval/jit.hpp"
 #include "frep/io/vm.hpp"
 #include "frep/render/render2d.hpp"
@@ -165,6 +166,56 @@ void BM_JitCompile(benchmark::State& state, const char* name) {
 }
 BENCHMARK_CAPTURE(BM_JitCompile, prospero, "prospero.vm")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_JitCompile, bear, "bear.vm")->Unit(benchmark::kMicrosecond);
+
+// One 16-box interval pass of a whole tape on a named backend (the JIT's code compiled before
+// the timing starts), 16 tiles of a 4x4 split of [-1, 1]^2 at z = 0: with BM_JitIntervalCompile,
+// the number of passes a tape must be asked for to pay back its compilation (bench/jit.sh).
+void BM_IntervalPassOn(benchmark::State& state, const char* name, const char* backend_name) {
+  const frep::Tape* tape = load_tape(name);
+  if (!tape) return state.SkipWithError("shared data not found");
+  const bool jit = std::string(backend_name) == "jit";
+  if (jit && !frep::jit_supported()) return state.SkipWithError("this CPU runs no JIT code");
+  const auto backend = frep::make_jit_backend({.compile_after_interval_passes = 0});
+  frep::IntervalBatchEvaluator ev(jit ? *backend : frep::interpreter_backend());
+  frep::Interval x[16], y[16], z[16];
+  for (int k = 0; k < 16; ++k) {
+    x[k] = {-1.0f + 0.5f * static_cast<float>(k % 4), -0.5f + 0.5f * static_cast<float>(k % 4)};
+    y[k] = {-1.0f + 0.5f * static_cast<float>(k / 4), -0.5f + 0.5f * static_cast<float>(k / 4)};
+    z[k] = {0.0f, 0.0f};
+  }
+  ev.eval(*tape, x, y, z, 16);  // compiles
+  for (auto _ : state) {
+    ev.eval(*tape, x, y, z, 16);
+    benchmark::DoNotOptimize(ev.result(0));
+  }
+  state.counters["instructions"] = static_cast<double>(tape->code().size());
+}
+BENCHMARK_CAPTURE(BM_IntervalPassOn, prospero_interp, "prospero.vm", "interp")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_IntervalPassOn, prospero_jit, "prospero.vm", "jit")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_IntervalPassOn, bear_interp, "bear.vm", "interp")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_IntervalPassOn, bear_jit, "bear.vm", "jit")->Unit(benchmark::kMicrosecond);
+
+// Compiling a whole tape's interval pass: a fresh evaluator (empty code cache) each time.
+void BM_JitIntervalCompile(benchmark::State& state, const char* name) {
+  const frep::Tape* tape = load_tape(name);
+  if (!tape) return state.SkipWithError("shared data not found");
+  if (!frep::jit_supported()) return state.SkipWithError("this CPU runs no JIT code");
+  const auto backend = frep::make_jit_backend({.compile_after_interval_passes = 0});
+  const frep::Interval x{-0.5f, 0.5f};
+  const frep::JitStats s0 = frep::jit_stats();
+  for (auto _ : state) {
+    frep::IntervalBatchEvaluator ev(*backend);
+    ev.eval(*tape, &x, &x, &x, 1);
+    benchmark::DoNotOptimize(ev.result(0));
+  }
+  const frep::JitStats s1 = frep::jit_stats();
+  const double instructions = static_cast<double>(s1.instructions_compiled - s0.instructions_compiled);
+  state.counters["instructions"] = static_cast<double>(tape->code().size());
+  state.counters["compile_us_per_1000"] =
+      instructions > 0 ? static_cast<double>(s1.compile_nanoseconds - s0.compile_nanoseconds) / 1e3 / (instructions / 1000) : 0;
+}
+BENCHMARK_CAPTURE(BM_JitIntervalCompile, prospero, "prospero.vm")->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_JitIntervalCompile, bear, "bear.vm")->Unit(benchmark::kMicrosecond);
 
 void BM_PointEval(benchmark::State& state, const char* name) {
   const frep::Tape* tape = load_tape(name);

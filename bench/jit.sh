@@ -3,7 +3,8 @@
 # 2 threads, each image checked against brute force by bench_eval), brute force (every pixel on
 # the whole tape), batch throughput on Prospero and bear.vm, compile time per 1,000
 # instructions, and the break-even: how many points a tape must be asked for before its
-# compilation has paid for itself (compile time over the time saved per point).
+# compilation has paid for itself (compile time over the time saved per point); the same for
+# the 16-box interval pass (break-even in passes).
 #   bash bench/jit.sh
 source "$(dirname "$0")/common.sh"
 require_input ../shared/data/vm/prospero.vm
@@ -14,7 +15,7 @@ run() {  # backend, filter
 }
 interp=$(run interp 'ProsperoRender|ProsperoBruteForce')
 jit=$(run jit 'ProsperoRender|ProsperoBruteForce')
-parts=$(run interp 'BatchOn|GradOn|JitCompile')
+parts=$(run interp 'BatchOn|GradOn|JitCompile|IntervalPassOn|JitIntervalCompile')
 echo "$interp" | grep -E '^(check|BM_)'
 echo "$jit" | grep -E '^(check|BM_)'
 echo "$parts" | grep -E '^BM_'
@@ -44,4 +45,13 @@ for m in prospero bear; do
   i=$(median "$parts" "BM_BatchOn/${m}_interp/4096"); j=$(median "$parts" "BM_BatchOn/${m}_jit/4096")
   awk -v m="$m" -v c="$c" -v per="$per" -v ins="$ins" -v i="$i" -v j="$j" 'BEGIN {
     saved = (i - j) / 4096; printf "  %-9s %d instructions: compile %.0f us (%.0f us per 1,000), break-even %.0f points\n", m, ins, c, per, c * 1000 / saved }'
+done
+echo
+echo "Interval-batch evaluator, one pass of the whole tape over 16 boxes (us; break-even = compile time / time saved per pass):"
+for m in prospero bear; do
+  i=$(median "$parts" "BM_IntervalPassOn/${m}_interp"); j=$(median "$parts" "BM_IntervalPassOn/${m}_jit")
+  c=$(median "$parts" "BM_JitIntervalCompile/$m")
+  per=$(counter "$parts" "BM_JitIntervalCompile/$m" compile_us_per_1000)
+  awk -v m="$m" -v i="$i" -v j="$j" -v c="$c" -v per="$per" 'BEGIN {
+    printf "  %-9s pass: interp %7.1f   jit %7.1f   %.2fx; compile %.0f us (%.0f us per 1,000), break-even %.0f passes\n", m, i, j, i / j, c, per, c / (i - j) }'
 done

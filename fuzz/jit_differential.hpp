@@ -1,10 +1,11 @@
 // Differential check of the JIT backend against the interpreter: bytes decode into a tape over
 // every opcode (constants and points drawn from special values: NaN, +-0, infinities,
-// denormals, halves, the largest floats, or raw bits) and the two batch evaluators must agree
-// bit for bit (NaN for NaN). Shared by the fuzz target (fuzz_jit.cpp) and the test that replays its corpus
+// denormals, halves, the largest floats, or raw bits) and the two backends' batch, gradient and
+// interval-batch evaluators must agree bit for bit (NaN for NaN). Shared by the fuzz target (fuzz_jit.cpp) and the test that replays its corpus
 // (tests/eval/jit_test.cpp).
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cfloat>
 #include <cmath>
@@ -16,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "frep/eval/backend.hpp"
 #include "frep/eval/evaluators.hpp"
 #include "frep/eval/jit.hpp"
 #include "frep/eval/tape.hpp"
@@ -108,8 +110,77 @@ inline std::string describe(const Tape& t) {
 // payload into a number.
 inline std::uint32_t compared_bits(float v) { return std::isnan(v) ? 0x7fc00000u : std::bit_cast<std::uint32_t>(v); }
 
-// Runs the case on the interpreter and on the JIT in `isa`, values (batch evaluator) and
-// gradients; an empty string if every output is bit-identical (NaN for NaN), else what differs.
+// The 16-box interval pass of `t` on both backends, over boxes spanned by the case's points
+// (some degenerate, some with NaN or infinite bounds), for two sets of lanes to simplify: the
+// whole record simplification reads must be bit-identical (NaN for NaN). Empty if it is, else
+// what differs.
+inline std::string check_intervals(const DiffCase& c, const Tape& t, JitIsa isa) {
+  constexpr int L = IntervalRecord::kLanes;
+  static thread_local std::unique_ptr<IntervalBatchKernel> interp = interpreter_backend().interval_batch();
+  static thread_local std::unique_ptr<Backend> backends[2];
+  static thread_local std::unique_ptr<IntervalBatchKernel> kernels[2];
+  const int which = isa == JitIsa::Avx512;
+  if (!kernels[which]) {
+    backends[which] = make_jit_backend({.isa = isa, .compile_after_interval_passes = 0});
+    kernels[which] = backends[which]->interval_batch();
+  }
+  const std::size_t n = c.xs.size();
+  const int count = static_cast<int>(std::min<std::size_t>(n, L));
+  alignas(64) float box[6 * L];
+  const std::vector<float>* axes[3] = {&c.xs, &c.ys, &c.zs};
+  for (int k = 0; k < L; ++k) {
+    const std::size_t i = static_cast<std::size_t>(k < count ? k : 0);
+    for (int axis = 0; axis < 3; ++axis) {
+      const float p = (*axes[axis])[i], q = (*axes[axis])[(i + static_cast<std::size_t>(axis) + 1) % n];
+      // Ordered where both are numbers; a NaN bound stays (an unknown box).
+      box[2 * axis * L + k] = q < p ? q : p;
+      box[(2 * axis + 1) * L + k] = q < p ? p : q;
+    }
+  }
+  const std::size_t code = t.code().size();
+  IntervalRecord ra, rb;
+  for (const std::uint32_t lanes : {(1u << count) - 1, 0x5555u & ((1u << count) - 1)}) {
+    interp->eval(t, box, count, lanes, ra);
+    kernels[which]->eval(t, box, count, lanes, rb);
+    const auto differ = [&](const std::string& what, float x, float y) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, " (lanes %#x): interpreter %a (0x%08x), jit %a (0x%08x)", lanes,
+                    static_cast<double>(x), std::bit_cast<std::uint32_t>(x), static_cast<double>(y),
+                    std::bit_cast<std::uint32_t>(y));
+      return "intervals: " + what + buf + " on the tape" + describe(t);
+    };
+    for (int k = 0; k < L; ++k) {
+      if (compared_bits(ra.result_lo[k]) != compared_bits(rb.result_lo[k]))
+        return differ("lower bound of box " + std::to_string(k), ra.result_lo[k], rb.result_lo[k]);
+      if (compared_bits(ra.result_hi[k]) != compared_bits(rb.result_hi[k]))
+        return differ("upper bound of box " + std::to_string(k), ra.result_hi[k], rb.result_hi[k]);
+    }
+    std::size_t folded = 0;
+    for (std::size_t i = 0; i < code; ++i) {
+      const bool choice = op_is_choice(t.code()[i].op);  // only choices' sides are recorded
+      if ((choice && (ra.left[i] != rb.left[i] || ra.right[i] != rb.right[i])) || ra.fold[i] != rb.fold[i]) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf,
+                      "intervals: instruction %zu (lanes %#x): left/right/fold bits interpreter %#x/%#x/%#x, jit %#x/%#x/%#x", i,
+                      lanes, ra.left[i], ra.right[i], ra.fold[i], rb.left[i], rb.right[i], rb.fold[i]);
+        return buf + (" on the tape" + describe(t));
+      }
+      folded += ra.fold[i] != 0;
+    }
+    if (ra.mins_count != rb.mins_count)
+      return differ("recorded mins", static_cast<float>(ra.mins_count), static_cast<float>(rb.mins_count));
+    for (std::size_t i = 0; i < ra.mins_count * 4 * L; ++i)
+      if (compared_bits(ra.mins[i]) != compared_bits(rb.mins[i]))
+        return differ("recorded min bound " + std::to_string(i), ra.mins[i], rb.mins[i]);
+    for (std::size_t i = 0; i < folded * L; ++i)
+      if (compared_bits(ra.folds[i]) != compared_bits(rb.folds[i]))
+        return differ("folded value " + std::to_string(i), ra.folds[i], rb.folds[i]);
+  }
+  return {};
+}
+
+// Runs the case on the interpreter and on the JIT in `isa`, values (batch evaluator),
+// gradients and intervals (check_intervals); an empty string if every output is bit-identical (NaN for NaN), else what differs.
 inline std::string check_case(const DiffCase& c, JitIsa isa) {
   const Tape t = Tape::from_ssa(c.ssa);
   static thread_local BatchEvaluator interp(interpreter_backend());
@@ -146,7 +217,7 @@ inline std::string check_case(const DiffCase& c, JitIsa isa) {
   }
   for (std::size_t i = 0; i < n; ++i)
     if (compared_bits(a[i]) != compared_bits(b[i])) return differ("value", i, a[i], b[i]);
-  return {};
+  return check_intervals(c, t, isa);
 }
 
 }  // namespace frep::fuzz

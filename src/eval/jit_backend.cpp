@@ -14,6 +14,7 @@
 
 #include "eval/interp_kernels.hpp"
 #include "eval/jit_codegen.hpp"
+#include "eval/tape_builder.hpp"
 #include "frep/error.hpp"
 #include "frep/util/large_allocator.hpp"
 
@@ -25,7 +26,7 @@ namespace {
 // after it ends, so nothing counted is lost.
 struct alignas(64) Counters {
   std::atomic<std::uint64_t> tapes_compiled{0}, instructions_compiled{0}, compile_nanoseconds{0}, compile_failures{0},
-      points_compiled{0}, points_interpreted{0};
+      points_compiled{0}, points_interpreted{0}, interval_passes_compiled{0}, interval_passes_interpreted{0};
 };
 struct CounterRegistry {
   std::mutex mutex;
@@ -66,11 +67,14 @@ bool resolve_avx512(JitIsa isa) {
   }
 }
 
-// One evaluator's compiled tapes: the points asked of each recent tape (by stamp), and the code
-// of those asked for enough.
+// One evaluator's compiled tapes: the work asked of each recent tape (by stamp: points, or
+// interval passes), and the code of those asked for enough.
 class TapeCode {
  public:
-  TapeCode(const JitOptions& o, bool avx512, int channels) : options_(o), cache_(avx512), channels_(channels) {}
+  // channels: 1 values, 4 values and gradients, 0 interval passes.
+  TapeCode(const JitOptions& o, bool avx512, int channels)
+      : options_(o), cache_(avx512), channels_(channels),
+        threshold_(channels == 0 ? o.compile_after_interval_passes : o.compile_after_points) {}
   ~TapeCode() {
     for (Entry& e : table_) cache_.release(e.fn);
   }
@@ -80,10 +84,10 @@ class TapeCode {
   int lanes() const { return cache_.lanes(); }
   int channels() const { return channels_; }
 
-  // The compiled code for `tape`, compiling it if it has now been asked for enough points; null
-  // where the interpreter runs it. Called for every evaluation (the renderers' leaves included),
-  // so the lookup is two table slots, not a search.
-  jit::CompiledFn function_for(const Tape& tape, std::size_t n) {
+  // The compiled code for `tape`, compiling it if it has now been asked for enough work (n points
+  // or passes); null where the interpreter runs it. Called for every evaluation (the renderers'
+  // leaves included), so the lookup is two table slots, not a search.
+  void* function_for(const Tape& tape, std::size_t n) {
     const std::uint64_t stamp = tape.stamp();
     if (stamp == 0 || tape.code().empty() || tape.code().size() > options_.max_instructions || tape.oracles()) return nullptr;
     ++clock_;
@@ -104,7 +108,7 @@ class TapeCode {
     e->used = clock_;
     if (e->fn || e->failed) return e->fn;
     e->points += n;
-    if (e->points < options_.compile_after_points) return nullptr;
+    if (e->points < threshold_) return nullptr;
     // Keep at most max_cached_tapes compiled: the least recently used compiled one goes.
     if (compiled_ >= static_cast<std::size_t>(std::max(options_.max_cached_tapes, 1))) {
       Entry* oldest = nullptr;
@@ -118,9 +122,10 @@ class TapeCode {
     }
     const auto t0 = std::chrono::steady_clock::now();
     const char* why = "";
-    e->fn = cache_.compile(tape, channels_, &why);
+    e->fn = channels_ == 0 ? reinterpret_cast<void*>(cache_.compile_intervals(tape, &why))
+                           : reinterpret_cast<void*>(cache_.compile(tape, channels_, &why));
     const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
-    const char* what = channels_ == 1 ? "values" : "gradients";
+    const char* what = channels_ == 1 ? "values" : channels_ == 4 ? "gradients" : "intervals";
     if (!e->fn) {
       e->failed = true;
       add(counters().compile_failures, 1);
@@ -142,8 +147,8 @@ class TapeCode {
  private:
   struct Entry {
     std::uint64_t stamp = 0;
-    std::size_t points = 0;          // asked of the tape so far
-    jit::CompiledFn fn = nullptr;    // its code, once compiled
+    std::size_t points = 0;          // asked of the tape so far (points, or interval passes)
+    void* fn = nullptr;              // its code, once compiled
     bool failed = false;             // compilation failed: interpret it
     std::uint64_t used = 0;          // when last asked for (for eviction)
   };
@@ -153,6 +158,7 @@ class TapeCode {
   JitOptions options_;
   jit::CodeCache cache_;
   int channels_;
+  std::size_t threshold_;  // work asked of a tape before it is compiled
   std::array<Entry, kSlots> table_{};
   std::size_t compiled_ = 0;  // entries with code
   std::uint64_t clock_ = 0;
@@ -168,7 +174,7 @@ struct KernelState {
   // The code to run `tape` on n points with (its scratch sized), or null where the interpreter
   // runs it; counts the points either way.
   jit::CompiledFn prepare(const Tape& tape, std::size_t n) {
-    const jit::CompiledFn fn = code.function_for(tape, n);
+    const auto fn = reinterpret_cast<jit::CompiledFn>(code.function_for(tape, n));
     add(fn ? counters().points_compiled : counters().points_interpreted, n);
     if (fn) {
       const std::size_t need = jit::CodeCache::scratch_floats(tape, code.lanes(), code.channels());
@@ -247,6 +253,41 @@ class JitGrad final : public GradKernel {
   KernelState<GradKernel> s_;
 };
 
+// The interval pass: compiled tapes write the same record as the interpreter's.
+class JitIntervalBatch final : public IntervalBatchKernel {
+ public:
+  JitIntervalBatch(const JitOptions& o, bool avx512)
+      : code_(o, avx512, 0), fallback_(interp::make_interval_batch_kernel()) {}
+
+  void eval(const Tape& tape, const float* box, int count, std::uint32_t fold_lanes, IntervalRecord& rec) override {
+    const auto fn = reinterpret_cast<jit::IntervalFn>(code_.function_for(tape, 1));
+    add(fn ? counters().interval_passes_compiled : counters().interval_passes_interpreted, 1);
+    if (!fn) return fallback_->eval(tape, box, count, fold_lanes, rec);
+    constexpr std::size_t L = IntervalRecord::kLanes;
+    const std::size_t n = tape.code().size();
+    grow_scratch(regs_, jit::CodeCache::interval_scratch_floats(tape));
+    grow_scratch(rec.left, n);
+    grow_scratch(rec.right, n);
+    grow_scratch(rec.fold, n);
+    grow_scratch(rec.mins, static_cast<std::size_t>(tape.choice_count()) * 4 * L);
+    // Room for every instruction's folded values (the interpreter appends; the code writes in
+    // place, and simplification reads only as many as the fold bits say).
+    if (rec.folds.size() < n * L) rec.folds.resize(n * L);
+    jit::IntervalArgs args{box, regs_.data(), rec.left.data(), rec.right.data(), rec.fold.data(), rec.mins.data(),
+                           rec.folds.data(), fold_lanes};
+    fn(&args);
+    rec.mins_count = static_cast<std::size_t>(args.mins - rec.mins.data()) / (4 * L);
+    const float* root = regs_.data() + static_cast<std::size_t>(tape.root_register()) * 2 * L;
+    std::copy(root, root + L, rec.result_lo);
+    std::copy(root + L, root + 2 * L, rec.result_hi);
+  }
+
+ private:
+  TapeCode code_;
+  std::unique_ptr<IntervalBatchKernel> fallback_;
+  LargeVector<float> regs_;
+};
+
 class Jit final : public Backend {
  public:
   explicit Jit(const JitOptions& o) : options_(o), active_(o.isa == JitIsa::Best ? jit_supported(JitIsa::Best) : true) {}
@@ -259,7 +300,10 @@ class Jit final : public Backend {
     if (!active_) return interp::make_grad_kernel();
     return std::make_unique<JitGrad>(options_, resolve_avx512(options_.isa));
   }
-  std::unique_ptr<IntervalBatchKernel> interval_batch() const override { return interp::make_interval_batch_kernel(); }
+  std::unique_ptr<IntervalBatchKernel> interval_batch() const override {
+    if (!active_) return interp::make_interval_batch_kernel();
+    return std::make_unique<JitIntervalBatch>(options_, resolve_avx512(options_.isa));
+  }
 
  private:
   JitOptions options_;
@@ -300,6 +344,8 @@ JitStats jit_stats() {
     s.compile_failures += c->compile_failures.load(std::memory_order_relaxed);
     s.points_compiled += c->points_compiled.load(std::memory_order_relaxed);
     s.points_interpreted += c->points_interpreted.load(std::memory_order_relaxed);
+    s.interval_passes_compiled += c->interval_passes_compiled.load(std::memory_order_relaxed);
+    s.interval_passes_interpreted += c->interval_passes_interpreted.load(std::memory_order_relaxed);
   }
   return s;
 }

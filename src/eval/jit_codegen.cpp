@@ -1,4 +1,6 @@
-// Machine code for the batch evaluator's tapes, written with asmjit's assembler.
+// Machine code for the batch, gradient and interval-batch evaluators' tapes, written with
+// asmjit's assembler. (The interval pass is IntervalEmitter, below; what follows describes the
+// point code.)
 //
 // The generated function runs the whole tape on one vector of points (8 or 16 lanes) at a time,
 // in a loop over the vectors. Tape registers live in a scratch array, one vector each; a small
@@ -13,11 +15,14 @@
 #include <asmjit/x86.h>
 
 #include <bit>
+#include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <unordered_map>
 #include <vector>
 
 #include "eval/grad_partials.hpp"
+#include "eval/interval_ops.hpp"
 #include "frep/expr/semantics.hpp"
 
 namespace frep::jit {
@@ -48,7 +53,8 @@ void grad_scalar(float* o, const float* A, const float* B, int op, int flags, in
 }
 
 // Comparison predicates, as Highway uses them.
-constexpr int kEqOQ = 0x00, kUnordQ = 0x03, kLtOQ = 0x11, kGeOQ = 0x1D, kGtOQ = 0x1E;
+constexpr int kEqOQ = 0x00, kUnordQ = 0x03, kNeqUQ = 0x04, kLtOQ = 0x11, kLeOQ = 0x12, kNgeUQ = 0x19, kGeOQ = 0x1D,
+              kGtOQ = 0x1E;
 // vround/vrndscale immediates (rounding mode | suppress exceptions).
 constexpr int kFloor = 0x09, kCeil = 0x0A, kTrunc = 0x0B;
 
@@ -698,6 +704,457 @@ class Emitter {
   std::unordered_map<std::uint32_t, Label> pool_, vector_pool_;
 };
 
+
+// The interval pass of IntervalBatchKernel (interval_batch.cpp, EvalBoxes) for one tape: each
+// instruction's lower and upper bounds over 16 boxes, with the same f32 operations in the same
+// order, and the same record (choice and fold bits, mins' argument bounds, folded values).
+// Values go through the scratch array (each interval pass of a tape runs once per call: there is
+// no loop to keep registers across). AVX2 code runs every row of 16 lanes as two halves of 8.
+
+// Interval ops without a vector form, lane by lane: o (16 lower, then 16 upper bounds) = op(a, b)
+// with the interpreter's scalar code. Returns the boxes choosing left (bits 0-15) and right
+// (16-31). Each lane reads its arguments before writing, so o may be a or b.
+std::uint32_t interval_lanes(float* o, const float* a, const float* b, int op) {
+  const Op o_op = static_cast<Op>(op);
+  const bool binary = op_arity(o_op) == 2;
+  std::uint32_t l = 0, r = 0;
+  for (int k = 0; k < 16; ++k) {
+    Choice c;
+    const Interval v = ival::op_generic(o_op, {a[k], a[16 + k]}, binary ? Interval{b[k], b[16 + k]} : Interval{}, &c);
+    o[k] = v.lo;
+    o[16 + k] = v.hi;
+    if (c == Choice::Left) l |= 1u << k;
+    if (c == Choice::Right) r |= 1u << k;
+  }
+  return l | r << 16;
+}
+
+class IntervalEmitter {
+ public:
+  IntervalEmitter(x86::Assembler& a, bool avx512, std::uint32_t num_regs)
+      : a_(a), avx512_(avx512), vb_(avx512 ? 64 : 32), halves_(avx512 ? 1 : 2), num_regs_(num_regs) {}
+
+  bool emit(const Tape& tape, const char** why) {
+    // Prologue: the IntervalArgs pointer in rdi. Kept on the stack: it (at [rsp]) and fold_lanes
+    // (at [rsp + 8]).
+    for (const x86::Gp& r : {x86::rbp, x86::rbx, x86::r12, x86::r13, x86::r14, x86::r15}) a_.push(r);
+    a_.sub(x86::rsp, 24);  // 16-byte stack alignment for calls
+    a_.mov(x86::ptr(x86::rsp), x86::rdi);
+    a_.mov(x86::eax, x86::dword_ptr(x86::rdi, offsetof(IntervalArgs, fold_lanes)));
+    a_.mov(x86::dword_ptr(x86::rsp, 8), x86::eax);
+    a_.mov(kRegs, x86::ptr(x86::rdi, offsetof(IntervalArgs, regs)));
+    a_.mov(kLeft, x86::ptr(x86::rdi, offsetof(IntervalArgs, left)));
+    a_.mov(kRight, x86::ptr(x86::rdi, offsetof(IntervalArgs, right)));
+    a_.mov(kFold, x86::ptr(x86::rdi, offsetof(IntervalArgs, fold)));
+    a_.mov(kMins, x86::ptr(x86::rdi, offsetof(IntervalArgs, mins)));
+    a_.mov(kFolds, x86::ptr(x86::rdi, offsetof(IntervalArgs, folds)));
+    load_constants();
+    const auto code = tape.code();
+    for (std::size_t i = 0; i < code.size(); ++i) {
+      const RegInstr& ins = code[i];
+      if (ins.op == Op::Oracle) {
+        *why = "an oracle";
+        return false;
+      }
+      if (!instruction(ins, static_cast<std::int32_t>(2 * i))) {
+        *why = "an opcode the JIT does not know";
+        return false;
+      }
+    }
+    // Epilogue: where the record's appended arrays end.
+    a_.mov(x86::rax, x86::ptr(x86::rsp));
+    a_.mov(x86::ptr(x86::rax, offsetof(IntervalArgs, mins)), kMins);
+    a_.mov(x86::ptr(x86::rax, offsetof(IntervalArgs, folds)), kFolds);
+    a_.vzeroupper();
+    a_.add(x86::rsp, 24);
+    for (const x86::Gp& r : {x86::r15, x86::r14, x86::r13, x86::r12, x86::rbx, x86::rbp}) a_.pop(r);
+    a_.ret();
+    a_.align(AlignMode::kData, 4);
+    for (auto& [bits, label] : pool_) {
+      a_.bind(label);
+      a_.embedUInt32(bits);
+    }
+    return true;
+  }
+
+ private:
+  // General registers held through the whole pass (callee-saved).
+  static constexpr x86::Gp kRegs = x86::rbx, kLeft = x86::rbp, kRight = x86::r12, kFold = x86::r13,
+                           kMins = x86::r14, kFolds = x86::r15;
+  // Vector registers: v0-v3 arguments (a lo, a hi, b lo, b hi), v4-v7 results and temporaries,
+  // masks in k1-k3 (AVX-512) or v8-v10 (AVX2), constants in v11-v15.
+  x86::Vec v(int i) const {
+    return avx512_ ? x86::Vec(x86::zmm(static_cast<std::uint32_t>(i))) : x86::Vec(x86::ymm(static_cast<std::uint32_t>(i)));
+  }
+  x86::Vec sign() const { return v(11); }
+  x86::Vec nan() const { return v(12); }
+  x86::Vec ninf() const { return v(13); }
+  x86::Vec pinf() const { return v(14); }
+  x86::Vec zero() const { return v(15); }
+
+  Label constant(float value) {
+    const std::uint32_t bits = std::bit_cast<std::uint32_t>(value);
+    auto it = pool_.find(bits);
+    if (it == pool_.end()) it = pool_.emplace(bits, a_.newLabel()).first;
+    return it->second;
+  }
+  void broadcast(const x86::Vec& d, float value) { a_.vbroadcastss(d, x86::dword_ptr(constant(value))); }
+  void vxor(const x86::Vec& d, const x86::Vec& p, const x86::Vec& q) { avx512_ ? a_.vpxord(d, p, q) : a_.vxorps(d, p, q); }
+  void load_constants() {
+    broadcast(sign(), -0.0f);
+    broadcast(nan(), std::numeric_limits<float>::quiet_NaN());
+    broadcast(ninf(), -std::numeric_limits<float>::infinity());
+    broadcast(pinf(), std::numeric_limits<float>::infinity());
+    vxor(zero(), zero(), zero());
+  }
+
+  // Masks: m in 0..2 is k1-k3 or v8-v10.
+  void cmp(int m, const x86::Vec& p, const x86::Vec& q, int predicate) {
+    if (avx512_) {
+      a_.vcmpps(x86::k(static_cast<std::uint32_t>(m + 1)), p, q, predicate);
+    } else {
+      a_.vcmpps(v(8 + m), p, q, predicate);
+    }
+  }
+  void mask_or(int d, int m) {
+    if (avx512_) {
+      a_.korw(x86::k(static_cast<std::uint32_t>(d + 1)), x86::k(static_cast<std::uint32_t>(d + 1)),
+              x86::k(static_cast<std::uint32_t>(m + 1)));
+    } else {
+      a_.vorps(v(8 + d), v(8 + d), v(8 + m));
+    }
+  }
+  void mask_and(int d, int m) {
+    if (avx512_) {
+      a_.kandw(x86::k(static_cast<std::uint32_t>(d + 1)), x86::k(static_cast<std::uint32_t>(d + 1)),
+               x86::k(static_cast<std::uint32_t>(m + 1)));
+    } else {
+      a_.vandps(v(8 + d), v(8 + d), v(8 + m));
+    }
+  }
+  // d = m ? s : d, lane by lane.
+  void blend(const x86::Vec& d, int m, const x86::Vec& s) {
+    if (avx512_) {
+      a_.k(x86::k(static_cast<std::uint32_t>(m + 1))).vmovaps(d, s);
+    } else {
+      a_.vblendvps(d, d, s, v(8 + m));
+    }
+  }
+  // Mask m's lanes of half h into bits of `acc` (set by half 0, or-ed in by half 1).
+  void bits(const x86::Gp& acc, int m, int h) {
+    if (avx512_) {
+      a_.kmovw(acc, x86::k(static_cast<std::uint32_t>(m + 1)));
+    } else if (h == 0) {
+      a_.vmovmskps(acc, v(8 + m));
+    } else {
+      a_.vmovmskps(x86::eax, v(8 + m));
+      a_.shl(x86::eax, 8);
+      a_.or_(acc, x86::eax);
+    }
+  }
+
+  // Register r's bounds in half h.
+  x86::Mem lo(std::uint32_t r, int h) const {
+    return x86::ptr(kRegs, static_cast<std::int32_t>(static_cast<std::int64_t>(r) * 128 + h * vb_));
+  }
+  x86::Mem hi(std::uint32_t r, int h) const {
+    return x86::ptr(kRegs, static_cast<std::int32_t>(static_cast<std::int64_t>(r) * 128 + 64 + h * vb_));
+  }
+  // The arguments' bounds of half h into v0, v1 (a) and v2, v3 (b); an immediate is both bounds.
+  void load_args(const RegInstr& ins, int h) {
+    if (ins.mode & RegInstr::kImmA) {
+      broadcast(v(0), ins.imm);
+      a_.vmovaps(v(1), v(0));
+    } else {
+      a_.vmovaps(v(0), lo(ins.a, h));
+      a_.vmovaps(v(1), hi(ins.a, h));
+    }
+    if (op_arity(ins.op) < 2) return;
+    if (ins.mode & RegInstr::kImmB) {
+      broadcast(v(2), ins.imm);
+      a_.vmovaps(v(3), v(2));
+    } else {
+      a_.vmovaps(v(2), lo(ins.b, h));
+      a_.vmovaps(v(3), hi(ins.b, h));
+    }
+  }
+  // Stores half h of the result, NaN where mask `unknown` (or -1: nowhere) is set.
+  // For ops with arguments, also collects half h's fold bits (fold_bits).
+  void store(const RegInstr& ins, int h, const x86::Vec& l, const x86::Vec& u, int unknown) {
+    if (unknown >= 0) {
+      blend(l, unknown, nan());
+      blend(u, unknown, nan());
+    }
+    a_.vmovaps(lo(ins.out, h), l);
+    a_.vmovaps(hi(ins.out, h), u);
+    if (op_arity(ins.op) > 0) fold_bits(ins, h, l, u);
+  }
+  // Half h's lanes whose result [l, u] is a single value into the fold bits (r10d): a zero only
+  // where the op yields an exact +0.
+  void fold_bits(const RegInstr& ins, int h, const x86::Vec& l, const x86::Vec& u) {
+    cmp(0, l, u, kEqOQ);
+    if (ins.op != Op::Compare && ins.op != Op::Not) {
+      cmp(1, l, zero(), kNeqUQ);
+      mask_and(0, 1);
+    }
+    bits(x86::r10d, 0, h);
+  }
+  // Mask m |= either bound of v(p), v(p + 1) is NaN (mask m + 1 is scratch).
+  void or_unordered(int m, int p) {
+    cmp(m + 1, v(p), v(p + 1), kUnordQ);
+    mask_or(m, m + 1);
+  }
+
+  bool instruction(const RegInstr& ins, std::int32_t at) {
+    const int ar = op_arity(ins.op);
+    // Choice bits (only choices store them: the record's other entries are not read) and fold
+    // bits.
+    const x86::Gp lbits = x86::r8d, rbits = x86::r9d, fbits = x86::r10d;
+    if (ar == 0) {
+      const int axis = static_cast<int>(ins.op) - static_cast<int>(Op::VarX);
+      if (ins.op != Op::Const) {
+        a_.mov(x86::rax, x86::ptr(x86::rsp));
+        a_.mov(x86::rax, x86::ptr(x86::rax, offsetof(IntervalArgs, box)));
+      }
+      for (int h = 0; h < halves_; ++h) {
+        if (ins.op == Op::Const) {
+          broadcast(v(4), ins.imm);
+          a_.vmovaps(v(5), v(4));
+        } else {
+          a_.vmovups(v(4), x86::ptr(x86::rax, 2 * axis * 64 + h * vb_));
+          a_.vmovups(v(5), x86::ptr(x86::rax, (2 * axis + 1) * 64 + h * vb_));
+        }
+        store(ins, h, v(4), v(5), -1);
+      }
+      a_.mov(x86::word_ptr(kFold, at), 0);
+      return true;
+    }
+    switch (ins.op) {
+      case Op::Add:
+      case Op::Sub:
+        for (int h = 0; h < halves_; ++h) {
+          load_args(ins, h);
+          // -inf + inf (inf - inf) inside the boxes gives NaN although the bounds do not show it.
+          if (ins.op == Op::Add) {
+            a_.vaddps(v(4), v(0), v(2));
+            a_.vaddps(v(5), v(1), v(3));
+            cmp(0, v(0), ninf(), kEqOQ);
+            cmp(1, v(3), pinf(), kEqOQ);
+            mask_and(0, 1);
+            cmp(1, v(1), pinf(), kEqOQ);
+            cmp(2, v(2), ninf(), kEqOQ);
+          } else {
+            a_.vsubps(v(4), v(0), v(3));
+            a_.vsubps(v(5), v(1), v(2));
+            cmp(0, v(1), pinf(), kEqOQ);
+            cmp(1, v(3), pinf(), kEqOQ);
+            mask_and(0, 1);
+            cmp(1, v(0), ninf(), kEqOQ);
+            cmp(2, v(2), ninf(), kEqOQ);
+          }
+          mask_and(1, 2);
+          mask_or(0, 1);
+          or_unordered(0, 4);
+          store(ins, h, v(4), v(5), 0);
+        }
+        break;
+      case Op::Neg:
+        for (int h = 0; h < halves_; ++h) {
+          load_args(ins, h);
+          vxor(v(4), v(1), sign());
+          vxor(v(5), v(0), sign());
+          store(ins, h, v(4), v(5), -1);
+        }
+        break;
+      case Op::Mul:
+        for (int h = 0; h < halves_; ++h) {
+          load_args(ins, h);
+          a_.vmulps(v(4), v(0), v(2));
+          a_.vmulps(v(5), v(0), v(3));
+          a_.vmulps(v(6), v(1), v(2));
+          a_.vmulps(v(7), v(1), v(3));
+          // Unknown: a NaN product, or 0 * inf inside the boxes (which the corners may not show):
+          // (a has 0 and b an infinite bound) or (b has 0 and a an infinite bound).
+          cmp(0, v(4), v(5), kUnordQ);
+          cmp(1, v(6), v(7), kUnordQ);
+          mask_or(0, 1);
+          for (int side = 0; side < 2; ++side) {
+            const int z = side == 0 ? 0 : 2, f = side == 0 ? 2 : 0;  // bounds holding 0; infinite
+            cmp(1, v(z), zero(), kLeOQ);
+            cmp(2, v(z + 1), zero(), kGeOQ);
+            mask_and(1, 2);
+            cmp(2, v(f), ninf(), kEqOQ);
+            mask_and(2, 1);
+            mask_or(0, 2);
+            cmp(2, v(f + 1), pinf(), kEqOQ);
+            mask_and(2, 1);
+            mask_or(0, 2);
+          }
+          a_.vminps(v(0), v(4), v(5));
+          a_.vminps(v(1), v(6), v(7));
+          a_.vminps(v(0), v(0), v(1));
+          a_.vmaxps(v(2), v(4), v(5));
+          a_.vmaxps(v(3), v(6), v(7));
+          a_.vmaxps(v(2), v(2), v(3));
+          store(ins, h, v(0), v(2), 0);
+        }
+        break;
+      case Op::Square:
+      case Op::Abs:
+        for (int h = 0; h < halves_; ++h) {
+          load_args(ins, h);
+          cmp(0, v(0), zero(), kGeOQ);  // positive
+          cmp(1, v(1), zero(), kLeOQ);  // negative
+          // Square: candidates a lo^2, a hi^2; abs: -a hi, -a lo. The lower bound is the first
+          // where positive, else the second where negative, else 0; the upper bound the second
+          // where positive, else the first where negative, else the larger.
+          const x86::Vec first = v(6), second = v(7);
+          if (ins.op == Op::Square) {
+            a_.vmulps(first, v(0), v(0));
+            a_.vmulps(second, v(1), v(1));
+            a_.vmovaps(v(4), zero());
+            blend(v(4), 1, second);
+            blend(v(4), 0, first);
+            a_.vmaxps(v(5), first, second);
+            blend(v(5), 1, first);
+            blend(v(5), 0, second);
+          } else {
+            vxor(first, v(1), sign());   // -a hi
+            vxor(second, v(0), sign());  // -a lo
+            a_.vmovaps(v(4), zero());
+            blend(v(4), 1, first);
+            blend(v(4), 0, v(0));
+            a_.vmaxps(v(5), second, v(1));
+            blend(v(5), 1, second);
+            blend(v(5), 0, v(1));
+          }
+          cmp(0, v(0), v(1), kUnordQ);
+          store(ins, h, v(4), v(5), 0);
+        }
+        break;
+      case Op::Sqrt:
+        for (int h = 0; h < halves_; ++h) {
+          load_args(ins, h);
+          a_.vsqrtps(v(4), v(0));
+          a_.vsqrtps(v(5), v(1));
+          cmp(0, v(0), zero(), kNgeUQ);
+          store(ins, h, v(4), v(5), 0);
+        }
+        break;
+      case Op::Min:
+      case Op::Max: {
+        const bool is_min = ins.op == Op::Min;
+        // Comparisons with NaN are false: unknown lanes make no choice.
+        for (int h = 0; h < halves_; ++h) {
+          load_args(ins, h);
+          if (is_min) {
+            cmp(0, v(1), v(2), kLtOQ);  // a hi < b lo
+            cmp(1, v(3), v(0), kLtOQ);  // b hi < a lo
+          } else {
+            cmp(0, v(0), v(3), kGtOQ);  // a lo > b hi
+            cmp(1, v(2), v(1), kGtOQ);  // b lo > a hi
+          }
+          bits(lbits, 0, h);
+          bits(rbits, 1, h);
+        }
+        if (is_min) {
+          // The arguments' bounds, for caps, where a box to simplify keeps both sides
+          // (caps::min_bounds_recorded), before the result may overwrite an argument.
+          const Label skip = a_.newLabel();
+          a_.mov(x86::eax, lbits);
+          a_.or_(x86::eax, rbits);
+          a_.not_(x86::eax);
+          a_.and_(x86::eax, x86::dword_ptr(x86::rsp, 8));
+          a_.jz(skip);
+          for (int h = 0; h < halves_; ++h) {
+            if (halves_ > 1) load_args(ins, h);  // one half: still in v0-v3
+            for (int row = 0; row < 4; ++row) a_.vmovups(x86::ptr(kMins, row * 64 + h * vb_), v(row));
+          }
+          a_.add(kMins, 4 * 64);
+          a_.bind(skip);
+        }
+        for (int h = 0; h < halves_; ++h) {
+          if (halves_ > 1) load_args(ins, h);
+          cmp(0, v(0), v(1), kUnordQ);
+          or_unordered(0, 2);
+          if (is_min) {
+            a_.vminps(v(4), v(0), v(2));
+            a_.vminps(v(5), v(1), v(3));
+          } else {
+            a_.vmaxps(v(4), v(0), v(2));
+            a_.vmaxps(v(5), v(1), v(3));
+          }
+          store(ins, h, v(4), v(5), 0);
+        }
+        break;
+      }
+      default:
+        if (!call_out(ins, ar)) return false;
+        for (int h = 0; h < halves_; ++h) {
+          a_.vmovaps(v(4), lo(ins.out, h));
+          a_.vmovaps(v(5), hi(ins.out, h));
+          fold_bits(ins, h, v(4), v(5));
+        }
+    }
+    if (op_is_choice(ins.op)) {
+      a_.mov(x86::word_ptr(kLeft, at), lbits.r16());
+      a_.mov(x86::word_ptr(kRight, at), rbits.r16());
+    }
+    a_.and_(fbits, x86::dword_ptr(x86::rsp, 8));
+    a_.mov(x86::word_ptr(kFold, at), fbits.r16());
+    const Label skip = a_.newLabel();
+    a_.jz(skip);
+    for (int h = 0; h < halves_; ++h) {
+      a_.vmovaps(v(4), lo(ins.out, h));
+      a_.vmovups(x86::ptr(kFolds, h * vb_), v(4));
+    }
+    a_.add(kFolds, 64);
+    a_.bind(skip);
+    return true;
+  }
+
+  // interval_lanes through memory (an immediate argument goes to a spare register's place);
+  // the call clobbers every vector register and r8-r11.
+  bool call_out(const RegInstr& ins, int ar) {
+    if (ar < 1 || ar > 2) return false;
+    const std::uint32_t spare_a = num_regs_, spare_b = num_regs_ + 1;
+    const auto operand = [&](bool imm, std::uint32_t reg, std::uint32_t spare, const x86::Gp& dst) {
+      if (imm) {
+        broadcast(v(0), ins.imm);
+        for (int h = 0; h < halves_; ++h) {
+          a_.vmovaps(lo(spare, h), v(0));
+          a_.vmovaps(hi(spare, h), v(0));
+        }
+        reg = spare;
+      }
+      a_.lea(dst, lo(reg, 0));
+    };
+    operand(ins.mode & RegInstr::kImmA, ins.a, spare_a, x86::rsi);
+    if (ar == 2) {
+      operand(ins.mode & RegInstr::kImmB, ins.b, spare_b, x86::rdx);
+    } else {
+      a_.mov(x86::rdx, x86::rsi);  // unused by unary ops, but a valid pointer
+    }
+    a_.lea(x86::rdi, lo(ins.out, 0));
+    a_.mov(x86::ecx, static_cast<int>(ins.op));
+    a_.vzeroupper();
+    a_.mov(x86::rax, reinterpret_cast<std::uint64_t>(&interval_lanes));
+    a_.call(x86::rax);
+    a_.mov(x86::r8d, x86::eax);
+    a_.and_(x86::r8d, 0xFFFF);
+    a_.mov(x86::r9d, x86::eax);
+    a_.shr(x86::r9d, 16);
+    load_constants();
+    return true;
+  }
+
+  x86::Assembler& a_;
+  bool avx512_;
+  int vb_, halves_;
+  std::uint32_t num_regs_;
+  std::unordered_map<std::uint32_t, Label> pool_;
+};
+
 }  // namespace
 
 struct CodeCache::Runtime {
@@ -707,28 +1164,49 @@ struct CodeCache::Runtime {
 CodeCache::CodeCache(bool avx512) : avx512_(avx512) {}
 CodeCache::~CodeCache() = default;
 
-CompiledFn CodeCache::compile(const Tape& tape, int channels, const char** why) {
-  if (!rt_) rt_ = std::make_unique<Runtime>();  // evaluators that never compile never map code memory
+namespace {
+
+// Runs write(assembler) and adds the code to the runtime; null with the reason in `why` if
+// write refuses or the assembler or the runtime fails.
+template <class Fn, class Write>
+Fn assemble(JitRuntime& rt, Write&& write, const char** why) {
   CodeHolder code;
-  code.init(rt_->rt.environment());
+  code.init(rt.environment());
   ErrorCatcher errors;
   code.setErrorHandler(&errors);
   x86::Assembler a(&code);
-  Emitter e(a, avx512_, tape.num_registers(), channels);
-  if (!e.emit(tape, why)) return nullptr;
+  if (!write(a)) return nullptr;
   if (errors.failed) {
     *why = errors.why ? errors.why : "assembler error";
     return nullptr;
   }
-  CompiledFn fn = nullptr;
-  if (rt_->rt.add(&fn, &code) != kErrorOk) {
+  Fn fn = nullptr;
+  if (rt.add(&fn, &code) != kErrorOk) {
     *why = "no executable memory";
     return nullptr;
   }
   return fn;
 }
 
-void CodeCache::release(CompiledFn fn) {
+}  // namespace
+
+CompiledFn CodeCache::compile(const Tape& tape, int channels, const char** why) {
+  if (!rt_) rt_ = std::make_unique<Runtime>();  // evaluators that never compile never map code memory
+  return assemble<CompiledFn>(rt_->rt, [&](x86::Assembler& a) {
+    Emitter e(a, avx512_, tape.num_registers(), channels);
+    return e.emit(tape, why);
+  }, why);
+}
+
+IntervalFn CodeCache::compile_intervals(const Tape& tape, const char** why) {
+  if (!rt_) rt_ = std::make_unique<Runtime>();
+  return assemble<IntervalFn>(rt_->rt, [&](x86::Assembler& a) {
+    IntervalEmitter e(a, avx512_, tape.num_registers());
+    return e.emit(tape, why);
+  }, why);
+}
+
+void CodeCache::release(void* fn) {
   if (fn && rt_) rt_->rt.release(fn);
 }
 
@@ -755,7 +1233,11 @@ CompiledFn CodeCache::compile(const Tape&, int, const char** why) {
   *why = "this build has no JIT";
   return nullptr;
 }
-void CodeCache::release(CompiledFn) {}
+IntervalFn CodeCache::compile_intervals(const Tape&, const char** why) {
+  *why = "this build has no JIT";
+  return nullptr;
+}
+void CodeCache::release(void*) {}
 bool cpu_has_avx2() { return false; }
 bool cpu_has_avx512() { return false; }
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 
 #include "frep/eval/tape.hpp"
@@ -13,6 +14,23 @@ namespace frep::jit {
 // or values and gradients, out[4 v L + c L + i] = channel c (f, df/dx, df/dy, df/dz) at p.
 // `regs` is scratch of scratch_floats floats, 64-byte aligned.
 using CompiledFn = void (*)(const float* x, const float* y, const float* z, float* out, float* regs, std::size_t vectors);
+
+// What compiled interval code reads and writes (IntervalRecord's arrays, backend.hpp): one
+// interval pass over 16 boxes, per register instruction i: left[i], right[i], fold[i]; the
+// bounds of recorded mins appended at `mins` and folded values at `folds`, both pointers moved
+// past what was appended. Registers: per tape register, 16 lower then 16 upper bounds in `regs`
+// (interval_scratch_floats, 64-byte aligned).
+struct IntervalArgs {
+  const float* box;  // six rows of 16 lanes: x lo, x hi, y lo, y hi, z lo, z hi
+  float* regs;
+  std::uint16_t* left;
+  std::uint16_t* right;
+  std::uint16_t* fold;
+  float* mins;
+  float* folds;
+  std::uint32_t fold_lanes;  // the boxes that may be simplified afterwards
+};
+using IntervalFn = void (*)(IntervalArgs* args);
 
 // Owns generated code (one per evaluator: not shared between threads).
 class CodeCache {
@@ -27,12 +45,19 @@ class CodeCache {
   // (channels 4); null if it cannot (an opcode it does not know, an assembler error), with the
   // reason in `why`.
   CompiledFn compile(const Tape& tape, int channels, const char** why);
-  // Gives back the memory of a function compile returned.
-  void release(CompiledFn fn);
+  // Compiles the tape's register code for IntervalBatchKernel's pass (in either instruction
+  // set: AVX2 code runs each 16-lane row as two halves); null with the reason in `why` if it
+  // cannot.
+  IntervalFn compile_intervals(const Tape& tape, const char** why);
+  // Gives back the memory of a function compile or compile_intervals returned.
+  void release(void* fn);
   // Floats of scratch a compiled tape needs.
   static std::size_t scratch_floats(const Tape& tape, int lanes, int channels) {
     return (static_cast<std::size_t>(tape.num_registers()) * static_cast<std::size_t>(channels) + 2) *
            static_cast<std::size_t>(lanes);
+  }
+  static std::size_t interval_scratch_floats(const Tape& tape) {
+    return (static_cast<std::size_t>(tape.num_registers()) + 2) * 32;
   }
 
  private:

@@ -203,6 +203,9 @@ struct IntervalBackend : Backend {
 
 // The 16-box interval evaluator, 16 degenerate boxes at a time.
 struct IntervalBatchBackend : Backend {
+  explicit IntervalBatchBackend(std::unique_ptr<frep::Backend> on = nullptr)
+      : backend(std::move(on)), ev(backend ? *backend : default_backend()) {}
+  std::unique_ptr<frep::Backend> backend;  // null: the default
   IntervalBatchEvaluator ev;
   bool exact() const override { return false; }
   void run(const Tape& t, const std::vector<float>& xs, const std::vector<float>& ys, const std::vector<float>& zs,
@@ -234,6 +237,9 @@ std::unique_ptr<Backend> make_backend(const std::string& name) {
     if (name.rfind(prefix, 0) == 0)
       return std::make_unique<GradBackend>(std::stoul(name.substr(std::strlen(prefix))),
                                            make_jit_backend({.isa = isa, .compile_after_points = 0}));
+  for (const auto& [full, isa] : {std::pair{"JitAvx2IntervalBatch", JitIsa::Avx2}, std::pair{"JitAvx512IntervalBatch", JitIsa::Avx512}})
+    if (name == full)
+      return std::make_unique<IntervalBatchBackend>(make_jit_backend({.isa = isa, .compile_after_interval_passes = 0}));
   if (name.rfind("Batch", 0) == 0) return std::make_unique<BatchBackend>(std::stoul(name.substr(5)));
   if (name.rfind("Grad", 0) == 0) return std::make_unique<GradBackend>(std::stoul(name.substr(4)));
   return nullptr;
@@ -531,6 +537,7 @@ std::vector<std::string> conformance_params() {
     if (!jit_supported(isa)) continue;
     for (const char* b : {"1", "7", "8", "9", "16", "17", "256", "1000"}) v.push_back(std::string(name) + "Batch" + b);
     for (const char* b : {"1", "9", "17", "1000"}) v.push_back(std::string(name) + "Grad" + b);
+    v.push_back(std::string(name) + "IntervalBatch");
   }
   return v;
 }

@@ -45,8 +45,10 @@ TEST(Jit, BitIdenticalToTheInterpreterOnRandomCasesOverEveryOpcode) {
       ++cases;
     }
   }
-  // The generated code ran (the interpreter did not stand in for it), for values and gradients.
-  EXPECT_GE(jit_stats().tapes_compiled - before.tapes_compiled, static_cast<std::uint64_t>(2 * cases));
+  // The generated code ran (the interpreter did not stand in for it), for values, gradients and
+  // intervals.
+  EXPECT_GE(jit_stats().tapes_compiled - before.tapes_compiled, static_cast<std::uint64_t>(3 * cases));
+  EXPECT_GE(jit_stats().interval_passes_compiled - before.interval_passes_compiled, static_cast<std::uint64_t>(2 * cases));
   EXPECT_EQ(jit_stats().compile_failures, before.compile_failures);
 }
 
@@ -100,6 +102,44 @@ TEST(Jit, CompilesATapeOnlyOnceItIsAskedForEnoughPoints) {
   jit.eval(t2, big.data(), big.data(), big.data(), out.data(), big.size());
   EXPECT_EQ(jit_stats().tapes_compiled, s2.tapes_compiled + 1);
   EXPECT_EQ(out[4999], 1.0625f);
+}
+
+TEST(Jit, CompilesAnIntervalTapeOnlyAfterEnoughPassesAndSimplifiesLikeTheInterpreter) {
+  FREP_REQUIRE_JIT();
+  Graph g;
+  auto x = g.x(), y = g.y();
+  const Tape t = Tape::compile(g, min(sqrt(x * x + y * y) - 0.5f, max(abs(x) - 0.25f, y * y - 0.1f)).id());
+  for (JitIsa isa : isas()) {
+    const auto backend = make_jit_backend({.isa = isa, .compile_after_interval_passes = 5});
+    IntervalBatchEvaluator jit(*backend), interp(interpreter_backend());
+    Interval xs[16], ys[16], zs[16];
+    for (int k = 0; k < 16; ++k) {
+      xs[k] = {-1.0f + 0.5f * static_cast<float>(k % 4), -0.5f + 0.5f * static_cast<float>(k % 4)};
+      ys[k] = {-1.0f + 0.5f * static_cast<float>(k / 4), -0.5f + 0.5f * static_cast<float>(k / 4)};
+      zs[k] = {0, 0};
+    }
+    const JitStats s0 = jit_stats();
+    for (int pass = 0; pass < 8; ++pass) {
+      jit.eval(t, xs, ys, zs, 16);
+      interp.eval(t, xs, ys, zs, 16);
+      Tape a[16], b[16];
+      ASSERT_EQ(jit.simplify(t, 0xFFFF, a), interp.simplify(t, 0xFFFF, b));
+      for (int k = 0; k < 16; ++k) {
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(jit.result(k)), std::bit_cast<std::uint64_t>(interp.result(k)));
+        ASSERT_EQ(a[k].size(), b[k].size()) << "pass " << pass << " box " << k;
+        for (std::size_t i = 0; i < a[k].size(); ++i) {
+          EXPECT_EQ(a[k].ssa()[i].op, b[k].ssa()[i].op);
+          EXPECT_EQ(a[k].ssa()[i].a, b[k].ssa()[i].a);
+          EXPECT_EQ(a[k].ssa()[i].b, b[k].ssa()[i].b);
+          EXPECT_EQ(std::bit_cast<std::uint32_t>(a[k].ssa()[i].value), std::bit_cast<std::uint32_t>(b[k].ssa()[i].value));
+        }
+      }
+    }
+    const JitStats s1 = jit_stats();
+    EXPECT_EQ(s1.tapes_compiled - s0.tapes_compiled, 1u) << "compiled once, on the fifth pass";
+    EXPECT_EQ(s1.interval_passes_interpreted - s0.interval_passes_interpreted, 4u);
+    EXPECT_EQ(s1.interval_passes_compiled - s0.interval_passes_compiled, 4u);
+  }
 }
 
 TEST(Jit, ATapeObjectSimplifiedAgainRunsItsNewContents) {
@@ -160,7 +200,9 @@ TEST(Jit, RendersTheSameImagesAsTheInterpreter) {
   FREP_REQUIRE_JIT();
   std::mt19937_64 rng(11);
   for (JitIsa isa : isas()) {
-    const auto backend = make_jit_backend({.isa = isa, .compile_after_points = 0});
+    // Every tape compiled, interval passes included: the subdivision simplifies from the
+    // generated code's records.
+    const auto backend = make_jit_backend({.isa = isa, .compile_after_points = 0, .compile_after_interval_passes = 0});
     for (int e = 0; e < 20; ++e) {
       Graph g;
       test::GenOptions opt;
@@ -179,9 +221,10 @@ TEST(Jit, RendersProsperoLikeTheInterpreter) {
   const Model m = read_vm(test::data_file("prospero.vm"));
   const Tape t = Tape::compile(*m.graph, m.root);
   for (JitIsa isa : isas()) {
-    const auto backend = make_jit_backend({.isa = isa, .compile_after_points = 0});
+    const auto backend = make_jit_backend({.isa = isa, .compile_after_points = 0, .compile_after_interval_passes = 0});
     const JitStats s0 = jit_stats();
     EXPECT_EQ(render_on(*backend, t, 256).pixels, render_on(interpreter_backend(), t, 256).pixels);
+    EXPECT_GT(jit_stats().interval_passes_compiled, s0.interval_passes_compiled);
     set_default_backend(backend.get());
     RenderOptions o;
     o.size = 128;

@@ -39,7 +39,8 @@ class GradKernel {
 
 // What an interval pass over 16 boxes leaves for simplification (IntervalBatchEvaluator::simplify,
 // which is the same for every backend): per register instruction, bit masks of the boxes where a
-// choice took its left or right side and where the result folded to one value; each folded
+// choice took its left or right side (set for choices only: the entries of other instructions
+// are not read) and where the result folded to one value; each folded
 // instruction's 16 values; each recorded min's argument bounds (for caps); the root's bounds.
 struct IntervalRecord {
   static constexpr int kLanes = 16;

@@ -3,13 +3,16 @@
 // set_default_backend(&jit_backend()), and gives results bit-identical to the interpreter's: the
 // same f32 operations in the same order.
 //
-// What it compiles: the tapes of the batch and gradient evaluators. A tape is compiled once it
-// has been asked for enough points to pay for its compilation (JitOptions::compile_after_points,
-// measured by bench/jit.sh), and its code is kept for later calls, keyed by Tape::stamp.
-// Everything else runs on the interpreter: tapes with oracles (their code is a call anyway),
-// tapes longer than max_instructions, CPUs without AVX2, the interval evaluator (each of its
-// tapes is evaluated once, over 16 boxes: never enough to pay back a compilation), and any tape
-// whose compilation fails (reported on stderr when FREP_JIT_DEBUG is set).
+// What it compiles: the tapes of the batch, gradient and 16-box interval evaluators. A tape is
+// compiled once it has been asked for enough work to pay for its compilation (points:
+// JitOptions::compile_after_points; interval passes: compile_after_interval_passes; both
+// measured by bench/jit.sh), and its code is kept for later calls, keyed by Tape::stamp. Most
+// interval tapes are simplified ones, evaluated in one pass and never again: they stay on the
+// interpreter. Those evaluated again and again are compiled: a model's whole tape re-rendered,
+// sliced layer by layer, or split into many top-level boxes. Everything else runs on the
+// interpreter: tapes with oracles (their code is a call anyway), tapes longer than
+// max_instructions, CPUs without AVX2, the single-box interval evaluator, and any tape whose
+// compilation fails (reported on stderr when FREP_JIT_DEBUG is set).
 #pragma once
 
 #include <cstddef>
@@ -35,6 +38,11 @@ struct JitOptions {
   // few points never waits for a compiler, and one asked for many is compiled early. 0
   // compiles every tape on first use (the tests do, to run the generated code on everything).
   std::size_t compile_after_points = 2048;
+  // The same for the interval-batch evaluator, in passes over up to 16 boxes: bench/jit.sh
+  // measures a break-even of 80 to 90 passes on Prospero and bear.vm (compiling costs about
+  // 0.4 ms per 1,000 instructions, a compiled pass about half an interpreted one). 0 compiles
+  // every tape on its first pass.
+  std::size_t compile_after_interval_passes = 80;
   std::size_t max_instructions = std::size_t{1} << 18;  // longer tapes stay interpreted
   int max_cached_tapes = 16;  // compiled tapes kept per evaluator (at most 64; the least recently used goes)
 };
@@ -57,6 +65,8 @@ struct JitStats {
   std::uint64_t compile_failures = 0;      // tapes that could not be compiled (then interpreted)
   std::uint64_t points_compiled = 0;       // points evaluated by generated code
   std::uint64_t points_interpreted = 0;    // points a JIT evaluator left to the interpreter
+  std::uint64_t interval_passes_compiled = 0;     // 16-box interval passes run by generated code
+  std::uint64_t interval_passes_interpreted = 0;  // and those left to the interpreter
 };
 JitStats jit_stats();
 
