@@ -4,11 +4,13 @@
 # the whole tape), batch throughput on Prospero and bear.vm, compile time per 1,000
 # instructions, and the break-even: how many points a tape must be asked for before its
 # compilation has paid for itself (compile time over the time saved per point); the same for
-# the 16-box interval pass (break-even in passes).
+# the 16-box interval pass (break-even in passes). Last, the issue's "no regression elsewhere":
+# bear.vm meshed at 256 cells (1 and 2 threads) and 3D renders of the shared 3D models (bear.vm,
+# tanglecube.vm; 1024x1024, 1 thread), each run three times alternating the backends, medians.
 #   bash bench/jit.sh
 source "$(dirname "$0")/common.sh"
 require_input ../shared/data/vm/prospero.vm
-build_targets bench_eval
+build_targets bench_eval bench_mesh bench_render3d
 run() {  # backend, filter
   FREP_BACKEND=$1 ./build/bench/bench_eval --benchmark_filter="$2" --benchmark_min_time=1 --benchmark_repetitions=3 \
     --benchmark_report_aggregates_only=true 2>&1
@@ -54,4 +56,25 @@ for m in prospero bear; do
   per=$(counter "$parts" "BM_JitIntervalCompile/$m" compile_us_per_1000)
   awk -v m="$m" -v i="$i" -v j="$j" -v c="$c" -v per="$per" 'BEGIN {
     printf "  %-9s pass: interp %7.1f   jit %7.1f   %.2fx; compile %.0f us (%.0f us per 1,000), break-even %.0f passes\n", m, i, j, i / j, c, per, c / (i - j) }'
+done
+echo
+echo "Elsewhere, FREP_BACKEND=interp vs jit, alternating, median of 3 (ms):"
+med3() { printf '%s\n' "$@" | sort -g | sed -n 2p; }
+for what in "mesh BM_Bear/256/1/" "mesh BM_Bear/256/0/" "render3d bear.vm" "render3d tanglecube.vm"; do
+  set -- $what
+  ti=(); tj=()
+  for rep in 1 2 3; do
+    for b in interp jit; do
+      if [ "$1" = mesh ]; then
+        t=$(FREP_BACKEND=$b ./build/bench/bench_mesh --benchmark_filter="$2" 2>&1 | awk '$1 ~ /^BM_Bear/ {print $2}')
+      else
+        t=$(FREP_BACKEND=$b FREP_RENDER3D_MODEL=../shared/data/vm/$2 ./build/bench/bench_render3d \
+            --benchmark_filter='BM_Render3D/1/' 2>&1 | awk '$1 ~ /^BM_Render3D/ {print $2}')
+      fi
+      if [ $b = interp ]; then ti+=("$t"); else tj+=("$t"); fi
+    done
+  done
+  i=$(med3 "${ti[@]}"); j=$(med3 "${tj[@]}")
+  label="$1 $2"; [ "$1" = mesh ] && label="mesh bear.vm 256 cells, $( [ "$2" = BM_Bear/256/1/ ] && echo 1 thread || echo all threads)"
+  awk -v w="$label" -v i="$i" -v j="$j" 'BEGIN { printf "  %-36s interp %8.1f   jit %8.1f   jit speed-up %.2fx\n", w, i, j, i / j }'
 done

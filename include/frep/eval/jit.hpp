@@ -33,8 +33,8 @@ enum class JitIsa {
 struct JitOptions {
   JitIsa isa = JitIsa::Best;  // instruction set of the generated code
   // A tape is compiled once the points asked of it (this call's included) reach this many: its
-  // compilation pays for itself after about as many points again (bench/jit.sh measures 1,100
-  // to 2,600 points on bear.vm and Prospero, whatever the tape's length), so a tape asked for
+  // compilation pays for itself after about as many points again (bench/jit.sh measures 2,600
+  // to 2,800 points on Prospero, whatever the tape's length), so a tape asked for
   // few points never waits for a compiler, and one asked for many is compiled early. 0
   // compiles every tape on first use (the tests do, to run the generated code on everything).
   std::size_t compile_after_points = 2048;
