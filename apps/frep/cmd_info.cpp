@@ -33,9 +33,10 @@ void register_info(CLI::App& app) {
                tape.num_registers(), tape.choice_count());
     // The evaluator this run (and any other without FREP_BACKEND changed) uses.
     if (std::string(default_backend().name()) == "jit" && jit_supported())
-      fmt::print("evaluator: jit ({} machine code for tapes evaluated on {}+ points; FREP_BACKEND=interp: the "
-                 "interpreter only)\n",
-                 jit_supported(JitIsa::Avx512) ? "AVX-512" : "AVX2", JitOptions{}.compile_after_points);
+      fmt::print("evaluator: jit ({} machine code for tapes evaluated on {}+ points or in {}+ interval passes; "
+                 "FREP_BACKEND=interp: the interpreter only)\n",
+                 jit_supported(JitIsa::Avx512) ? "AVX-512" : "AVX2", JitOptions{}.compile_after_points,
+                 JitOptions{}.compile_after_interval_passes);
     else
       fmt::print("evaluator: interpreter ({} SIMD)\n", BatchEvaluator::target_name());
     if (m.info.lipschitz > 0)
