@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
@@ -58,9 +59,12 @@ class ThreadPool {
   std::vector<std::thread> threads_;
   std::mutex mutex_;
   std::condition_variable wake_, done_;
-  std::uint64_t generation_ = 0;  // bumped for every loop
-  int busy_ = 0;                  // workers still in the current loop
-  bool stop_ = false;
+  // Written under mutex_; read without it too by the short spins before a worker or the caller
+  // blocks (a loop of one job usually follows the last within microseconds, and a futex
+  // wake-up costs tens of them).
+  std::atomic<std::uint64_t> generation_{0};  // bumped for every loop
+  std::atomic<int> busy_{0};                  // workers still in the current loop
+  std::atomic<bool> stop_{false};
   // The current loop.
   const std::function<void(int, int)>* body_ = nullptr;
   int items_ = 0;
