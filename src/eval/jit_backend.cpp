@@ -26,7 +26,8 @@ namespace {
 // after it ends, so nothing counted is lost.
 struct alignas(64) Counters {
   std::atomic<std::uint64_t> tapes_compiled{0}, instructions_compiled{0}, compile_nanoseconds{0}, compile_failures{0},
-      points_compiled{0}, points_interpreted{0}, interval_passes_compiled{0}, interval_passes_interpreted{0};
+      points_compiled{0}, points_interpreted{0}, interval_passes_compiled{0}, interval_passes_interpreted{0},
+      tapes_dropped{0};
 };
 struct CounterRegistry {
   std::mutex mutex;
@@ -74,7 +75,8 @@ class TapeCode {
   // channels: 1 values, 4 values and gradients, 0 interval passes.
   TapeCode(const JitOptions& o, bool avx512, int channels)
       : options_(o), cache_(avx512), channels_(channels),
-        threshold_(channels == 0 ? o.compile_after_interval_passes : o.compile_after_points) {}
+        threshold_(channels == 0 ? o.compile_after_interval_passes : o.compile_after_points),
+        max_instructions_(channels == 0 ? o.max_interval_instructions : o.max_instructions) {}
   ~TapeCode() {
     for (Entry& e : table_) cache_.release(e.fn);
   }
@@ -84,19 +86,83 @@ class TapeCode {
   int lanes() const { return cache_.lanes(); }
   int channels() const { return channels_; }
 
-  // The compiled code for `tape`, compiling it if it has now been asked for enough work (n points
-  // or passes); null where the interpreter runs it. Called for every evaluation (the renderers'
-  // leaves included), so the lookup is two table slots, not a search.
+  // Reports how long the run after the last function_for_pass took (on its code or the
+  // interpreter). A tape's code that, over its first kTrialRuns runs, is not faster than the
+  // interpreter was on the same tape is dropped and the tape interpreted from then on, by
+  // every evaluator (Tape::interval_code_slower):
+  // straight-line code for a long tape run now and then, between other work, runs from cold
+  // caches (Prospero's interval pass inside a render: 217 us compiled, 62 us interpreted).
+  void timed(const Tape& tape, bool compiled, double ns) {
+    Entry* e = last_;
+    if (!e) return;
+    if (!compiled) {
+      e->interp_ns += ns;
+      ++e->interp_runs;
+      return;
+    }
+    if (!e->fn || e->interp_runs == 0) return;
+    e->code_ns += ns;
+    if (++e->code_runs < kTrialRuns) return;
+    const double code = e->code_ns / e->code_runs, interp = e->interp_ns / e->interp_runs;
+    if (e->code_runs == kTrialRuns && code >= interp) {
+      if (debug_enabled())
+        std::fprintf(stderr, "frep jit: dropped the code of a tape (%s): %.1f us a run, against %.1f us interpreted\n",
+                     channels_ == 1 ? "values" : channels_ == 4 ? "gradients" : "intervals", code / 1e3, interp / 1e3);
+      cache_.release(e->fn);
+      e->fn = nullptr;
+      e->failed = true;
+      --compiled_;
+      add(counters().tapes_dropped, 1);
+      tape.set_interval_code_slower();
+    }
+  }
+  static constexpr std::uint32_t kTrialRuns = 8;
+
+  // The compiled code for `tape`, compiling it if it has now been asked for enough points; null
+  // where the interpreter runs it. Called for every evaluation (the renderers' leaves included),
+  // so the lookup is two table slots, not a search.
   void* function_for(const Tape& tape, std::size_t n) {
+    Entry* e = entry(tape);
+    if (!e) return nullptr;
+    if (e->fn || e->failed) return e->fn;
+    e->points += n;
+    if (e->points < threshold_) return nullptr;
+    return compile(*e, tape);
+  }
+
+  // For interval passes, which come one at a time: the code for `tape` on its `passes`-th pass
+  // (Tape::count_interval_pass), compiled at the threshold. The tape counts its own passes, so
+  // only tapes near the threshold enter the table: the stream of simplified tapes a
+  // subdivision makes and evaluates once each never pushes a whole model out before it gets
+  // there. At least kTrialRuns passes before it are timed on the interpreter (see timed).
+  void* function_for_pass(const Tape& tape, std::uint64_t passes) {
+    last_ = nullptr;
+    if (passes + kTrialRuns < threshold_ || tape.interval_code_slower()) return nullptr;
+    Entry* e = entry(tape);
+    if (!e) return nullptr;
+    if (e->fn || e->failed) return e->fn;
+    e->points = static_cast<std::size_t>(passes);
+    // Each evaluator times the interpreter on the tape before compiling it (a tape shared by
+    // several workers may reach the count in another's passes).
+    const std::size_t timed_first = std::min<std::size_t>(kTrialRuns, threshold_ > 0 ? threshold_ - 1 : 0);
+    if (e->points < threshold_ || e->interp_runs < timed_first) return nullptr;
+    return compile(*e, tape);
+  }
+
+ private:
+  struct Entry;
+  // The table entry of `tape` (made if new, replacing the candidate slot without code, else the
+  // one used longer ago); null for tapes that are never compiled. Sets last_.
+  Entry* entry(const Tape& tape) {
+    last_ = nullptr;
     const std::uint64_t stamp = tape.stamp();
-    if (stamp == 0 || tape.code().empty() || tape.code().size() > options_.max_instructions || tape.oracles()) return nullptr;
+    if (stamp == 0 || tape.code().empty() || tape.code().size() > max_instructions_ || tape.oracles()) return nullptr;
     ++clock_;
     // Two candidate slots (stamps are consecutive: the first spreads them, the second is a hash).
     Entry* const a = &table_[stamp & (kSlots - 1)];
     Entry* const b = &table_[(stamp * 0x9E3779B97F4A7C15ull) >> (64 - kSlotBits)];
     Entry* e = a->stamp == stamp ? a : b->stamp == stamp ? b : nullptr;
     if (!e) {
-      // Replace the candidate that has no code, else the one used longer ago.
       e = (!a->fn && b->fn) ? a : (a->fn && !b->fn) ? b : (a->used <= b->used ? a : b);
       if (e->fn) {
         cache_.release(e->fn);
@@ -106,28 +172,31 @@ class TapeCode {
       e->stamp = stamp;
     }
     e->used = clock_;
-    if (e->fn || e->failed) return e->fn;
-    e->points += n;
-    if (e->points < threshold_) return nullptr;
+    last_ = e;
+    return e;
+  }
+
+  // Compiles `tape` into entry e; its code, or null (then e is marked failed).
+  void* compile(Entry& e, const Tape& tape) {
     // Keep at most max_cached_tapes compiled: the least recently used compiled one goes.
     if (compiled_ >= static_cast<std::size_t>(std::max(options_.max_cached_tapes, 1))) {
       Entry* oldest = nullptr;
       for (Entry& c : table_)
         if (c.fn && (!oldest || c.used < oldest->used)) oldest = &c;
       if (oldest) {
-        cache_.release(oldest->fn);
+        cache_.release(oldest->fn);  // (never e, which has no code yet)
         *oldest = Entry();
         --compiled_;
       }
     }
     const auto t0 = std::chrono::steady_clock::now();
     const char* why = "";
-    e->fn = channels_ == 0 ? reinterpret_cast<void*>(cache_.compile_intervals(tape, &why))
-                           : reinterpret_cast<void*>(cache_.compile(tape, channels_, &why));
+    e.fn = channels_ == 0 ? reinterpret_cast<void*>(cache_.compile_intervals(tape, &why))
+                          : reinterpret_cast<void*>(cache_.compile(tape, channels_, &why));
     const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
     const char* what = channels_ == 1 ? "values" : channels_ == 4 ? "gradients" : "intervals";
-    if (!e->fn) {
-      e->failed = true;
+    if (!e.fn) {
+      e.failed = true;
       add(counters().compile_failures, 1);
       if (debug_enabled())
         std::fprintf(stderr, "frep jit: a tape of %zu instructions (%s) runs on the interpreter: %s\n", tape.code().size(),
@@ -141,24 +210,28 @@ class TapeCode {
     if (debug_enabled())
       std::fprintf(stderr, "frep jit: compiled a tape of %zu instructions (%s) in %.1f us\n", tape.code().size(), what,
                    static_cast<double>(ns) / 1e3);
-    return e->fn;
+    return e.fn;
   }
 
- private:
   struct Entry {
     std::uint64_t stamp = 0;
     std::size_t points = 0;          // asked of the tape so far (points, or interval passes)
     void* fn = nullptr;              // its code, once compiled
-    bool failed = false;             // compilation failed: interpret it
+    bool failed = false;             // compilation failed, or its code was slower: interpret it
     std::uint64_t used = 0;          // when last asked for (for eviction)
+    double interp_ns = 0, code_ns = 0;       // time of the runs timed (see timed)
+    std::uint32_t interp_runs = 0, code_runs = 0;
   };
+
+  Entry* last_ = nullptr;  // the entry of the last function_for(_pass), if it has one
 
   static constexpr int kSlotBits = 6;
   static constexpr std::size_t kSlots = std::size_t{1} << kSlotBits;
   JitOptions options_;
   jit::CodeCache cache_;
   int channels_;
-  std::size_t threshold_;  // work asked of a tape before it is compiled
+  std::size_t threshold_;         // work asked of a tape before it is compiled
+  std::size_t max_instructions_;  // longer tapes stay interpreted
   std::array<Entry, kSlots> table_{};
   std::size_t compiled_ = 0;  // entries with code
   std::uint64_t clock_ = 0;
@@ -260,8 +333,16 @@ class JitIntervalBatch final : public IntervalBatchKernel {
       : code_(o, avx512, 0), fallback_(interp::make_interval_batch_kernel()) {}
 
   void eval(const Tape& tape, const float* box, int count, std::uint32_t fold_lanes, IntervalRecord& rec) override {
-    const auto fn = reinterpret_cast<jit::IntervalFn>(code_.function_for(tape, 1));
+    const auto fn = reinterpret_cast<jit::IntervalFn>(code_.function_for_pass(tape, tape.count_interval_pass()));
     add(fn ? counters().interval_passes_compiled : counters().interval_passes_interpreted, 1);
+    const auto t0 = std::chrono::steady_clock::now();
+    run(fn, tape, box, count, fold_lanes, rec);
+    code_.timed(tape, fn != nullptr, std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count());
+  }
+
+ private:
+  void run(jit::IntervalFn fn, const Tape& tape, const float* box, int count, std::uint32_t fold_lanes,
+           IntervalRecord& rec) {
     if (!fn) return fallback_->eval(tape, box, count, fold_lanes, rec);
     constexpr std::size_t L = IntervalRecord::kLanes;
     const std::size_t n = tape.code().size();
@@ -282,7 +363,6 @@ class JitIntervalBatch final : public IntervalBatchKernel {
     std::copy(root + L, root + 2 * L, rec.result_hi);
   }
 
- private:
   TapeCode code_;
   std::unique_ptr<IntervalBatchKernel> fallback_;
   LargeVector<float> regs_;
@@ -346,6 +426,7 @@ JitStats jit_stats() {
     s.points_interpreted += c->points_interpreted.load(std::memory_order_relaxed);
     s.interval_passes_compiled += c->interval_passes_compiled.load(std::memory_order_relaxed);
     s.interval_passes_interpreted += c->interval_passes_interpreted.load(std::memory_order_relaxed);
+    s.tapes_dropped += c->tapes_dropped.load(std::memory_order_relaxed);
   }
   return s;
 }

@@ -111,6 +111,8 @@ class Tape::Builder {
     t.choices_ = choices_;
     t.vars_ = vars_;
     t.stamp_ = next_tape_stamp();
+    t.passes_.n.store(0, std::memory_order_relaxed);
+    t.code_slower_.n.store(0, std::memory_order_relaxed);
     const std::uint32_t root = remap_[root_in * stride_] & ~kConstBit;
     if (root + 1 != m_) {
       // Only a constant root can end up before other (then dead) instructions.

@@ -108,8 +108,9 @@ TEST(Jit, CompilesAnIntervalTapeOnlyAfterEnoughPassesAndSimplifiesLikeTheInterpr
   FREP_REQUIRE_JIT();
   Graph g;
   auto x = g.x(), y = g.y();
-  const Tape t = Tape::compile(g, min(sqrt(x * x + y * y) - 0.5f, max(abs(x) - 0.25f, y * y - 0.1f)).id());
+  const NodeId root = min(sqrt(x * x + y * y) - 0.5f, max(abs(x) - 0.25f, y * y - 0.1f)).id();
   for (JitIsa isa : isas()) {
+    const Tape t = Tape::compile(g, root);  // a tape counts its passes: a new one per backend
     const auto backend = make_jit_backend({.isa = isa, .compile_after_interval_passes = 5});
     IntervalBatchEvaluator jit(*backend), interp(interpreter_backend());
     Interval xs[16], ys[16], zs[16];
@@ -137,9 +138,65 @@ TEST(Jit, CompilesAnIntervalTapeOnlyAfterEnoughPassesAndSimplifiesLikeTheInterpr
     }
     const JitStats s1 = jit_stats();
     EXPECT_EQ(s1.tapes_compiled - s0.tapes_compiled, 1u) << "compiled once, on the fifth pass";
+    // (the interpreter's passes are not counted: it is not a JIT evaluator)
     EXPECT_EQ(s1.interval_passes_interpreted - s0.interval_passes_interpreted, 4u);
     EXPECT_EQ(s1.interval_passes_compiled - s0.interval_passes_compiled, 4u);
   }
+}
+
+TEST(Jit, AWholeTapeIsCompiledAmongManySimplifiedOnes) {
+  FREP_REQUIRE_JIT();
+  // The subdivision driver's pattern: a pass on the whole tape, then passes on dozens of
+  // simplified children (each a new tape), again and again. Tapes count their own passes, so
+  // the children cannot push the whole tape out of the evaluator's table before it is compiled.
+  Graph g;
+  auto x = g.x(), y = g.y();
+  Expr f = sqrt(x * x + y * y) - 0.9f;
+  for (int i = 0; i < 24; ++i) f = min(f, abs(x - 0.07f * static_cast<float>(i)) + abs(y + 0.05f * static_cast<float>(i)) - 0.03f);
+  const Tape t = Tape::compile(g, f.id());
+  const auto backend = make_jit_backend({.compile_after_interval_passes = 5});
+  IntervalBatchEvaluator ev(*backend);
+  std::vector<Tape> children(16);
+  Interval xs[16], ys[16], zs[16];
+  const JitStats s0 = jit_stats();
+  for (int pass = 0; pass < 10; ++pass) {
+    for (int k = 0; k < 16; ++k) {
+      xs[k] = {-1.0f + 0.5f * static_cast<float>(k % 4), -0.5f + 0.5f * static_cast<float>(k % 4)};
+      ys[k] = {-1.0f + 0.5f * static_cast<float>(k / 4), -0.5f + 0.5f * static_cast<float>(k / 4)};
+      zs[k] = {0, 0};
+    }
+    ev.eval(t, xs, ys, zs, 16);
+    const std::uint32_t built = ev.simplify(t, 0xFFFF, children.data());
+    for (int k = 0; k < 16; ++k) {
+      if (!(built >> k & 1)) continue;
+      for (int c = 0; c < 4; ++c) {  // each child split again, as a subdivision would
+        Interval cx = {xs[k].lo + 0.125f * static_cast<float>(c), xs[k].lo + 0.125f * static_cast<float>(c + 1)};
+        ev.eval(children[static_cast<std::size_t>(k)], &cx, &ys[k], &zs[k], 1);
+      }
+    }
+  }
+  const JitStats s1 = jit_stats();
+  EXPECT_EQ(s1.tapes_compiled - s0.tapes_compiled, 1u) << "the whole tape, once";
+  EXPECT_EQ(s1.interval_passes_compiled - s0.interval_passes_compiled, 6u) << "its passes 5 to 10";
+}
+
+TEST(Jit, WarmRerendersCompileTheWholeTapesIntervalPass) {
+  FREP_REQUIRE_JIT();
+  Graph g;
+  auto x = g.x(), y = g.y();
+  const Tape t = Tape::compile(g, min(sqrt(x * x + y * y) - 0.5f, max(abs(x) - 0.8f, abs(y + 0.3f) - 0.1f)).id());
+  const auto backend = make_jit_backend({.compile_after_interval_passes = 3});
+  set_default_backend(backend.get());
+  RenderOptions o;
+  o.size = 200;
+  o.threads = 1;
+  Renderer2D warm(o);
+  const JitStats s0 = jit_stats();
+  Image img;
+  for (int frame = 0; frame < 6; ++frame) img = warm.render(t);
+  set_default_backend(nullptr);
+  EXPECT_GT(jit_stats().interval_passes_compiled, s0.interval_passes_compiled);
+  EXPECT_EQ(img.pixels, render_on(interpreter_backend(), t, 200).pixels);
 }
 
 TEST(Jit, ATapeObjectSimplifiedAgainRunsItsNewContents) {

@@ -7,12 +7,15 @@
 // compiled once it has been asked for enough work to pay for its compilation (points:
 // JitOptions::compile_after_points; interval passes: compile_after_interval_passes; both
 // measured by bench/jit.sh), and its code is kept for later calls, keyed by Tape::stamp. Most
-// interval tapes are simplified ones, evaluated in one pass and never again: they stay on the
-// interpreter. Those evaluated again and again are compiled: a model's whole tape re-rendered,
-// sliced layer by layer, or split into many top-level boxes. Everything else runs on the
+// interval tapes are simplified ones, evaluated in a pass or a few and then rebuilt: they stay
+// on the interpreter. Tapes evaluated again and again reach the count (Tape::count_interval_pass):
+// a model re-rendered, or sliced layer by layer; their code is timed on its first passes and
+// dropped if it is not faster than the interpreter was on the same tape (long straight-line
+// code run between other work runs from cold caches). Everything else runs on the
 // interpreter: tapes with oracles (their code is a call anyway), tapes longer than
-// max_instructions, CPUs without AVX2, the single-box interval evaluator, and any tape whose
-// compilation fails (reported on stderr when FREP_JIT_DEBUG is set).
+// max_instructions (max_interval_instructions), CPUs without AVX2, the single-box interval
+// evaluator, and any tape whose compilation fails (reported on stderr when FREP_JIT_DEBUG is
+// set).
 #pragma once
 
 #include <cstddef>
@@ -44,6 +47,9 @@ struct JitOptions {
   // every tape on its first pass.
   std::size_t compile_after_interval_passes = 80;
   std::size_t max_instructions = std::size_t{1} << 18;  // longer tapes stay interpreted
+  // The same for interval passes, whose code is longer (about 170 bytes per instruction with
+  // AVX-512, 320 with AVX2): at most 11 or 21 MB of code and ~30 ms of compilation per tape.
+  std::size_t max_interval_instructions = std::size_t{1} << 16;
   int max_cached_tapes = 16;  // compiled tapes kept per evaluator (at most 64; the least recently used goes)
 };
 
@@ -67,6 +73,7 @@ struct JitStats {
   std::uint64_t points_interpreted = 0;    // points a JIT evaluator left to the interpreter
   std::uint64_t interval_passes_compiled = 0;     // 16-box interval passes run by generated code
   std::uint64_t interval_passes_interpreted = 0;  // and those left to the interpreter
+  std::uint64_t tapes_dropped = 0;  // compiled interval passes slower than the interpreter's, given up
 };
 JitStats jit_stats();
 

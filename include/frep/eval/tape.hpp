@@ -2,6 +2,7 @@
 // after register allocation, which the point, batch and gradient evaluators run.
 #pragma once
 
+#include <atomic>
 #include <bit>
 #include <cstdint>
 #include <memory>
@@ -70,6 +71,14 @@ class Tape {
   // stamp, copies keep it. Backends key compiled code by it (tape buffers are reused, so their
   // address says nothing). 0 for an empty tape.
   std::uint64_t stamp() const { return stamp_; }
+  // Counts an interval pass over this tape's contents and returns the count, this one included
+  // (a tape rebuilt starts again from 0; a copy starts from its original's count). Backends that compile the
+  // tapes evaluated often (the JIT) read it; thread-safe, and a const tape may count.
+  std::uint64_t count_interval_pass() const { return passes_.n.fetch_add(1, std::memory_order_relaxed) + 1; }
+  // Whether a backend found compiled interval code for this tape slower than interpreting it
+  // (then others need not try again); set by the backend, cleared when the tape is rebuilt.
+  bool interval_code_slower() const { return code_slower_.n.load(std::memory_order_relaxed) != 0; }
+  void set_interval_code_slower() const { code_slower_.n.store(1, std::memory_order_relaxed); }
   // The oracles its Op::Oracle instructions index (null if it has none); simplified tapes share
   // their parent's.
   const std::shared_ptr<const OracleTable>& oracles() const { return oracles_; }
@@ -105,6 +114,18 @@ class Tape {
   std::uint32_t choices_ = 0;
   std::uint8_t vars_ = 0;
   std::uint64_t stamp_ = 0;
+  // A counter that copies with its value (Tape stays copyable).
+  struct Counter {
+    mutable std::atomic<std::uint64_t> n{0};
+    Counter() = default;
+    Counter(const Counter& o) : n(o.n.load(std::memory_order_relaxed)) {}
+    Counter& operator=(const Counter& o) {
+      n.store(o.n.load(std::memory_order_relaxed), std::memory_order_relaxed);
+      return *this;
+    }
+  };
+  Counter passes_;       // interval passes over its contents (count_interval_pass)
+  Counter code_slower_;  // 1: interval_code_slower
   std::shared_ptr<const OracleTable> oracles_;
   LargeVector<std::uint32_t> remap_;  // scratch for simplification into this tape
   std::vector<std::uint8_t> state_;   // scratch for simplification into this tape
