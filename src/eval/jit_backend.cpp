@@ -127,6 +127,14 @@ class TapeCode {
     if (e->fn || e->failed) return e->fn;
     e->points += n;
     if (e->points < threshold_) return nullptr;
+    if (channels_ == 1 && threshold_ > 0 &&
+        static_cast<double>(jit::value_calls(tape)) > options_.max_call_share * static_cast<double>(tape.code().size())) {
+      e->failed = true;  // not a failure: interpreting it is as fast
+      if (debug_enabled())
+        std::fprintf(stderr, "frep jit: a tape of %zu instructions (values) stays interpreted: %zu are library calls\n",
+                     tape.code().size(), jit::value_calls(tape));
+      return nullptr;
+    }
     return compile(*e, tape);
   }
 

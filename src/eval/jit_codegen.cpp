@@ -68,6 +68,17 @@ class ErrorCatcher final : public ErrorHandler {
   const char* why = nullptr;
 };
 
+// Whether the op has a vector form in value code; the others are calls.
+bool native(Op op) {
+  switch (op) {
+    case Op::Neg: case Op::Abs: case Op::Recip: case Op::Sqrt: case Op::Square: case Op::Floor: case Op::Ceil:
+    case Op::Round: case Op::Not: case Op::Add: case Op::Sub: case Op::Mul: case Op::Div: case Op::Min:
+    case Op::Max: case Op::Compare: case Op::And: case Op::Or:
+      return true;
+    default: return false;
+  }
+}
+
 class Emitter {
  public:
   // channels: 1 for values, 4 for values and gradients (v, dx, dy, dz of a tape register are
@@ -618,17 +629,6 @@ class Emitter {
       if (ar == 2) release_arg(ins, true, db);
     }
     return true;
-  }
-
-  // Whether the op has a vector form here; the others are calls.
-  static bool native(Op op) {
-    switch (op) {
-      case Op::Neg: case Op::Abs: case Op::Recip: case Op::Sqrt: case Op::Square: case Op::Floor: case Op::Ceil:
-      case Op::Round: case Op::Not: case Op::Add: case Op::Sub: case Op::Mul: case Op::Div: case Op::Min:
-      case Op::Max: case Op::Compare: case Op::And: case Op::Or:
-        return true;
-      default: return false;
-    }
   }
 
   // o = scalar_op(a, b) through memory: every value still to be read, and the arguments, are
@@ -1210,6 +1210,12 @@ void CodeCache::release(void* fn) {
   if (fn && rt_) rt_->rt.release(fn);
 }
 
+std::size_t value_calls(const Tape& tape) {
+  std::size_t n = 0;
+  for (const RegInstr& r : tape.code()) n += op_arity(r.op) > 0 && !native(r.op);
+  return n;
+}
+
 bool cpu_has_avx2() {
   const auto& f = CpuInfo::host().features().x86();
   return f.hasAVX2();
@@ -1238,6 +1244,7 @@ IntervalFn CodeCache::compile_intervals(const Tape&, const char** why) {
   return nullptr;
 }
 void CodeCache::release(void*) {}
+std::size_t value_calls(const Tape&) { return 0; }
 bool cpu_has_avx2() { return false; }
 bool cpu_has_avx512() { return false; }
 

@@ -66,6 +66,9 @@ class CodeCache {
   std::unique_ptr<Runtime> rt_;
 };
 
+// The tape's register instructions that value code calls out for (libm functions, fmod).
+std::size_t value_calls(const Tape& tape);
+
 // True if the CPU runs AVX2 (with FMA-free AVX2 code only) or AVX-512F code.
 bool cpu_has_avx2();
 bool cpu_has_avx512();

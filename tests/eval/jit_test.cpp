@@ -199,6 +199,28 @@ TEST(Jit, WarmRerendersCompileTheWholeTapesIntervalPass) {
   EXPECT_EQ(img.pixels, render_on(interpreter_backend(), t, 200).pixels);
 }
 
+TEST(Jit, ValueTapesDominatedByLibraryCallsStayInterpreted) {
+  FREP_REQUIRE_JIT();
+  Graph g;
+  auto x = g.x(), y = g.y();
+  const Tape calls = Tape::compile(g, (exp(x) + sin(y) * cos(x) - 1.0f).id());  // 3 calls in 7
+  const Tape arithmetic = Tape::compile(g, (x * x + y * y - 1.0f + abs(x - y) * 0.5f).id());
+  const auto backend = make_jit_backend({.compile_after_points = 100});
+  BatchEvaluator ev(*backend);
+  std::vector<float> p(200, 0.25f), out(200);
+  const JitStats s0 = jit_stats();
+  ev.eval(calls, p.data(), p.data(), p.data(), out.data(), p.size());
+  EXPECT_EQ(jit_stats().tapes_compiled, s0.tapes_compiled);
+  EXPECT_EQ(jit_stats().compile_failures, s0.compile_failures) << "a choice, not a failure";
+  ev.eval(arithmetic, p.data(), p.data(), p.data(), out.data(), p.size());
+  EXPECT_EQ(jit_stats().tapes_compiled, s0.tapes_compiled + 1);
+  // compile_after_points = 0 compiles everything, calls or not (the conformance tests do).
+  const auto all = make_jit_backend({.compile_after_points = 0});
+  BatchEvaluator every(*all);
+  every.eval(calls, p.data(), p.data(), p.data(), out.data(), p.size());
+  EXPECT_EQ(jit_stats().tapes_compiled, s0.tapes_compiled + 2);
+}
+
 TEST(Jit, ATapeObjectSimplifiedAgainRunsItsNewContents) {
   FREP_REQUIRE_JIT();
   // Simplification writes children into reused Tape objects; compiled code is keyed by the

@@ -41,6 +41,11 @@ struct JitOptions {
   // few points never waits for a compiler, and one asked for many is compiled early. 0
   // compiles every tape on first use (the tests do, to run the generated code on everything).
   std::size_t compile_after_points = 2048;
+  // Value tapes whose library calls (exp, sin, fmod, ...: scalar code called out to, one vector
+  // at a time) are more than this share of their instructions stay interpreted: a call costs the
+  // generated code about what 25 native instructions save (bench/jit.sh: bear.vm, 5% calls, runs
+  // 0.95x the interpreter's speed compiled). Not applied with compile_after_points = 0.
+  double max_call_share = 0.04;
   // The same for the interval-batch evaluator, in passes over up to 16 boxes: bench/jit.sh
   // measures a break-even of 80 to 90 passes on Prospero and bear.vm (compiling costs about
   // 0.4 ms per 1,000 instructions, a compiled pass about half an interpreted one). 0 compiles
