@@ -89,9 +89,8 @@ class TapeCode {
   // Reports how long the run after the last function_for_pass took (on its code or the
   // interpreter). A tape's code that, over its first kTrialRuns runs, is not faster than the
   // interpreter was on the same tape is dropped and the tape interpreted from then on, by
-  // every evaluator (Tape::interval_code_slower):
-  // straight-line code for a long tape run now and then, between other work, runs from cold
-  // caches (Prospero's interval pass inside a render: 217 us compiled, 62 us interpreted).
+  // every evaluator (Tape::interval_code_slower): straight-line code for a long tape, run now
+  // and then between other work, runs from cold caches (Prospero's interval pass inside a render: 217 us compiled, 62 us interpreted).
   void timed(const Tape& tape, bool compiled, double ns) {
     Entry* e = last_;
     if (!e) return;
@@ -106,8 +105,8 @@ class TapeCode {
     const double code = e->code_ns / e->code_runs, interp = e->interp_ns / e->interp_runs;
     if (e->code_runs == kTrialRuns && code >= interp) {
       if (debug_enabled())
-        std::fprintf(stderr, "frep jit: dropped the code of a tape (%s): %.1f us a run, against %.1f us interpreted\n",
-                     channels_ == 1 ? "values" : channels_ == 4 ? "gradients" : "intervals", code / 1e3, interp / 1e3);
+        std::fprintf(stderr, "frep jit: dropped the code of a tape (intervals): %.1f us a pass, against %.1f us interpreted\n",
+                     code / 1e3, interp / 1e3);
       cache_.release(e->fn);
       e->fn = nullptr;
       e->failed = true;
