@@ -37,20 +37,20 @@ struct JitOptions {
   JitIsa isa = JitIsa::Best;  // instruction set of the generated code
   // A tape is compiled once the points asked of it (this call's included) reach this many: its
   // compilation pays for itself after about as many points again (bench/jit.sh measures 2,600
-  // to 2,800 points on Prospero, whatever the tape's length), so a tape asked for
+  // to 3,400 points on Prospero, whatever the tape's length), so a tape asked for
   // few points never waits for a compiler, and one asked for many is compiled early. 0
   // compiles every tape on first use (the tests do, to run the generated code on everything).
   std::size_t compile_after_points = 2048;
+  // The same for the interval-batch evaluator, in passes over up to 16 boxes: bench/jit.sh
+  // measures a break-even of 80 to 90 passes on Prospero and bear.vm (compiling costs about
+  // 0.4 ms per 1,000 instructions, a compiled pass run back to back about half an interpreted
+  // one; code found slower where it runs is dropped). 0 compiles every tape on its first pass.
+  std::size_t compile_after_interval_passes = 80;
   // Value tapes whose library calls (exp, sin, fmod, ...: scalar code called out to, one vector
   // at a time) are more than this share of their instructions stay interpreted: a call costs the
   // generated code about what 25 native instructions save (bench/jit.sh: bear.vm, 5% calls, runs
   // 0.95x the interpreter's speed compiled). Not applied with compile_after_points = 0.
   double max_call_share = 0.04;
-  // The same for the interval-batch evaluator, in passes over up to 16 boxes: bench/jit.sh
-  // measures a break-even of 80 to 90 passes on Prospero and bear.vm (compiling costs about
-  // 0.4 ms per 1,000 instructions, a compiled pass about half an interpreted one). 0 compiles
-  // every tape on its first pass.
-  std::size_t compile_after_interval_passes = 80;
   std::size_t max_instructions = std::size_t{1} << 18;  // longer tapes stay interpreted
   // The same for interval passes, whose code is longer (about 170 bytes per instruction with
   // AVX-512, 320 with AVX2): at most 11 or 21 MB of code and ~30 ms of compilation per tape.
