@@ -401,10 +401,7 @@ class IntervalBatch final : public IntervalBatchKernel {
     float* const lo = regs_.data();
     float* const hi = lo + regs * kLanes;
     const std::size_t n = tape.code().size();
-    grow_scratch(rec.left, n);
-    grow_scratch(rec.right, n);
-    grow_scratch(rec.fold, n);
-    grow_scratch(rec.mins, static_cast<std::size_t>(tape.choice_count()) * 4 * kLanes);
+    size_interval_record(tape, rec);
     rec.folds.clear();
     rec.mins_count = HWY_DYNAMIC_DISPATCH(EvalBoxes)(tape.code().data(), n, lo, hi, rec.left.data(), rec.right.data(),
                                                      rec.fold.data(), rec.mins.data(), rec.folds, fold_lanes, box, count,

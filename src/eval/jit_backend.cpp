@@ -102,11 +102,12 @@ class TapeCode {
     if (!e->fn || e->interp_runs == 0) return;
     e->code_ns += ns;
     if (++e->code_runs < kTrialRuns) return;
+    if (e->code_runs > kTrialRuns) return;
     const double code = e->code_ns / e->code_runs, interp = e->interp_ns / e->interp_runs;
-    if (e->code_runs == kTrialRuns && code >= interp) {
-      if (debug_enabled())
-        std::fprintf(stderr, "frep jit: dropped the code of a tape (intervals): %.1f us a pass, against %.1f us interpreted\n",
-                     code / 1e3, interp / 1e3);
+    if (debug_enabled())
+      std::fprintf(stderr, "frep jit: %s the code of a tape (intervals): %.1f us a pass, against %.1f us interpreted\n",
+                   code >= interp ? "dropped" : "kept", code / 1e3, interp / 1e3);
+    if (code >= interp) {
       cache_.release(e->fn);
       e->fn = nullptr;
       e->failed = true;
@@ -116,6 +117,8 @@ class TapeCode {
     }
   }
   static constexpr std::uint32_t kTrialRuns = 8;
+  // Whether the last function_for_pass found the tape in the table (its run is to be timed).
+  bool tracking() const { return last_ != nullptr; }
 
   // The compiled code for `tape`, compiling it if it has now been asked for enough points; null
   // where the interpreter runs it. Called for every evaluation (the renderers' leaves included),
@@ -342,6 +345,9 @@ class JitIntervalBatch final : public IntervalBatchKernel {
   void eval(const Tape& tape, const float* box, int count, std::uint32_t fold_lanes, IntervalRecord& rec) override {
     const auto fn = reinterpret_cast<jit::IntervalFn>(code_.function_for_pass(tape, tape.count_interval_pass()));
     add(fn ? counters().interval_passes_compiled : counters().interval_passes_interpreted, 1);
+    // Only tapes near or past the threshold are timed: the clock stays off the passes of the
+    // many tapes evaluated once.
+    if (!code_.tracking()) return run(fn, tape, box, count, fold_lanes, rec);
     const auto t0 = std::chrono::steady_clock::now();
     run(fn, tape, box, count, fold_lanes, rec);
     code_.timed(tape, fn != nullptr, std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count());
@@ -354,10 +360,7 @@ class JitIntervalBatch final : public IntervalBatchKernel {
     constexpr std::size_t L = IntervalRecord::kLanes;
     const std::size_t n = tape.code().size();
     grow_scratch(regs_, jit::CodeCache::interval_scratch_floats(tape));
-    grow_scratch(rec.left, n);
-    grow_scratch(rec.right, n);
-    grow_scratch(rec.fold, n);
-    grow_scratch(rec.mins, static_cast<std::size_t>(tape.choice_count()) * 4 * L);
+    size_interval_record(tape, rec);
     // Room for every instruction's folded values (the interpreter appends; the code writes in
     // place, and simplification reads only as many as the fold bits say).
     if (rec.folds.size() < n * L) rec.folds.resize(n * L);

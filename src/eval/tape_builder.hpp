@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "frep/error.hpp"
+#include "frep/eval/backend.hpp"
 #include "frep/eval/tape.hpp"
 #include "frep/expr/semantics.hpp"
 
@@ -20,6 +21,16 @@ void grow_scratch(V& v, std::size_t n) {
   const std::size_t want = std::max(n, v.size() + v.size() / 2);
   V().swap(v);
   v.resize(want);
+}
+
+// Sizes the per-instruction arrays of an interval pass's record (backend.hpp) for `tape`, as
+// every interval kernel needs them (their contents are about to be overwritten).
+inline void size_interval_record(const Tape& tape, IntervalRecord& rec) {
+  const std::size_t n = tape.code().size();
+  grow_scratch(rec.left, n);
+  grow_scratch(rec.right, n);
+  grow_scratch(rec.fold, n);
+  grow_scratch(rec.mins, static_cast<std::size_t>(tape.choice_count()) * 4 * IntervalRecord::kLanes);
 }
 
 // A stamp never given before (Tape::stamp).
