@@ -79,12 +79,60 @@ bool native(Op op) {
   }
 }
 
-class Emitter {
+// What both code generators share: the assembler and instruction set, a pool of float constants
+// (stored after the code, broadcast from there), and the System V prologue and epilogue that save
+// and restore the callee-saved registers the generated code uses.
+class CodeWriter {
+ protected:
+  CodeWriter(x86::Assembler& a, bool avx512) : a_(a), avx512_(avx512) {}
+
+  // Saves rbp, rbx and r12-r15, then reserves `frame` bytes of stack (frame % 16 == 8 keeps rsp
+  // 16-byte aligned for calls).
+  void prologue(int frame) {
+    for (const x86::Gp& r : {x86::rbp, x86::rbx, x86::r12, x86::r13, x86::r14, x86::r15}) a_.push(r);
+    a_.sub(x86::rsp, frame);
+  }
+  void epilogue(int frame) {
+    a_.vzeroupper();
+    a_.add(x86::rsp, frame);
+    for (const x86::Gp& r : {x86::r15, x86::r14, x86::r13, x86::r12, x86::rbx, x86::rbp}) a_.pop(r);
+    a_.ret();
+  }
+
+  // Vector register i of the instruction set (zmm or ymm).
+  x86::Vec reg(int i) const {
+    return avx512_ ? x86::Vec(x86::zmm(static_cast<std::uint32_t>(i))) : x86::Vec(x86::ymm(static_cast<std::uint32_t>(i)));
+  }
+  Label constant(float v) {
+    const std::uint32_t bits = std::bit_cast<std::uint32_t>(v);
+    auto it = pool_.find(bits);
+    if (it == pool_.end()) it = pool_.emplace(bits, a_.newLabel()).first;
+    return it->second;
+  }
+  void broadcast(const x86::Vec& d, float v) { a_.vbroadcastss(d, x86::dword_ptr(constant(v))); }
+  void vxor(const x86::Vec& d, const x86::Vec& p, const x86::Vec& q) { avx512_ ? a_.vpxord(d, p, q) : a_.vxorps(d, p, q); }
+  // The constants, after the code.
+  void emit_pool() {
+    a_.align(AlignMode::kData, 4);
+    for (auto& [bits, label] : pool_) {
+      a_.bind(label);
+      a_.embedUInt32(bits);
+    }
+  }
+
+  x86::Assembler& a_;
+  bool avx512_;
+
+ private:
+  std::unordered_map<std::uint32_t, Label> pool_;
+};
+
+class Emitter : CodeWriter {
  public:
   // channels: 1 for values, 4 for values and gradients (v, dx, dy, dz of a tape register are
   // four vectors, side by side in the scratch array).
   Emitter(x86::Assembler& a, bool avx512, std::uint32_t num_regs, int channels)
-      : a_(a), avx512_(avx512), vb_(avx512 ? 64 : 32), lanes_(avx512 ? 16 : 8), num_regs_(num_regs),
+      : CodeWriter(a, avx512), vb_(avx512 ? 64 : 32), lanes_(avx512 ? 16 : 8), num_regs_(num_regs),
         channels_(channels), temps_(channels == 1 ? 2 : 6), first_slot_(temps_ + 2),
         slots_((avx512 ? 32 : 16) - first_slot_) {
     slot_.resize(static_cast<std::size_t>(slots_));
@@ -94,8 +142,7 @@ class Emitter {
   bool emit(const Tape& tape, const char** why) {
     const x86::Gp regs = x86::rbx, xp = x86::r12, yp = x86::r13, zp = x86::r14, outp = x86::r15, count = x86::rbp;
     // Prologue: System V arguments x, y, z, out, regs, vectors in rdi, rsi, rdx, rcx, r8, r9.
-    for (const x86::Gp& r : {x86::rbp, x86::rbx, x86::r12, x86::r13, x86::r14, x86::r15}) a_.push(r);
-    a_.sub(x86::rsp, 8);  // 16-byte stack alignment for calls
+    prologue(8);
     a_.mov(xp, x86::rdi);
     a_.mov(yp, x86::rsi);
     a_.mov(zp, x86::rdx);
@@ -137,21 +184,14 @@ class Emitter {
     a_.dec(count);
     a_.jnz(loop);
     a_.bind(done);
-    a_.vzeroupper();
-    a_.add(x86::rsp, 8);
-    for (const x86::Gp& r : {x86::r15, x86::r14, x86::r13, x86::r12, x86::rbx, x86::rbp}) a_.pop(r);
-    a_.ret();
+    epilogue(8);
     // Constants: whole vectors, then single floats to broadcast.
     for (auto& [bits, label] : vector_pool_) {
       a_.align(AlignMode::kData, static_cast<std::uint32_t>(vb_));
       a_.bind(label);
       a_.embedUInt32(bits, static_cast<std::size_t>(lanes_));
     }
-    a_.align(AlignMode::kData, 4);
-    for (auto& [bits, label] : pool_) {
-      a_.bind(label);
-      a_.embedUInt32(bits);
-    }
+    emit_pool();
     return true;
   }
 
@@ -162,7 +202,7 @@ class Emitter {
   x86::Vec vec(int i) {
     // AVX2 has 16 registers (ymm16 and up need AVX-512, which an AVX2 machine would fault on).
     if (i >= (avx512_ ? 32 : 16)) out_of_registers_ = true;
-    return avx512_ ? x86::Vec(x86::zmm(static_cast<std::uint32_t>(i))) : x86::Vec(x86::ymm(static_cast<std::uint32_t>(i)));
+    return reg(i);
   }
   x86::Vec t0() { return vec(0); }
   x86::Vec t1() { return vec(1); }
@@ -172,12 +212,6 @@ class Emitter {
   x86::Vec cached(int s) { return vec(first_slot_ + s); }
   std::uint32_t key(std::uint32_t reg, int c) const { return reg * static_cast<std::uint32_t>(channels_) + static_cast<std::uint32_t>(c); }
 
-  Label constant(float v) {
-    const std::uint32_t bits = std::bit_cast<std::uint32_t>(v);
-    auto it = pool_.find(bits);
-    if (it == pool_.end()) it = pool_.emplace(bits, a_.newLabel()).first;
-    return it->second;
-  }
   // A whole vector of v, for operands that must be in memory.
   Label vector_constant(float v) {
     const std::uint32_t bits = std::bit_cast<std::uint32_t>(v);
@@ -185,7 +219,6 @@ class Emitter {
     if (it == vector_pool_.end()) it = vector_pool_.emplace(bits, a_.newLabel()).first;
     return it->second;
   }
-  void broadcast(const x86::Vec& d, float v) { a_.vbroadcastss(d, x86::dword_ptr(constant(v))); }
   void load_constants() {
     broadcast(one(), 1.0f);
     if (avx512_) {
@@ -320,7 +353,6 @@ class Emitter {
   // Bitwise operations (AVX-512F has them on integers only; the bits are the same).
   void vand(const x86::Vec& d, const x86::Vec& p, const x86::Vec& q) { avx512_ ? a_.vpandd(d, p, q) : a_.vandps(d, p, q); }
   void vor(const x86::Vec& d, const x86::Vec& p, const x86::Vec& q) { avx512_ ? a_.vpord(d, p, q) : a_.vorps(d, p, q); }
-  void vxor(const x86::Vec& d, const x86::Vec& p, const x86::Vec& q) { avx512_ ? a_.vpxord(d, p, q) : a_.vxorps(d, p, q); }
   void vround(const x86::Vec& d, const x86::Vec& s, int mode) {
     avx512_ ? a_.vrndscaleps(d, s, mode) : a_.vroundps(d, s, mode);
   }
@@ -688,8 +720,6 @@ class Emitter {
     return true;
   }
 
-  x86::Assembler& a_;
-  bool avx512_;
   int vb_, lanes_;
   std::uint32_t num_regs_;
   int channels_, temps_, first_slot_;
@@ -701,7 +731,7 @@ class Emitter {
   bool out_of_registers_ = false;
   std::vector<std::uint32_t> def_next_, arg_next_;
   std::size_t k_ = 0;                       // the instruction being written
-  std::unordered_map<std::uint32_t, Label> pool_, vector_pool_;
+  std::unordered_map<std::uint32_t, Label> vector_pool_;
 };
 
 
@@ -729,16 +759,15 @@ std::uint32_t interval_lanes(float* o, const float* a, const float* b, int op) {
   return l | r << 16;
 }
 
-class IntervalEmitter {
+class IntervalEmitter : CodeWriter {
  public:
   IntervalEmitter(x86::Assembler& a, bool avx512, std::uint32_t num_regs)
-      : a_(a), avx512_(avx512), vb_(avx512 ? 64 : 32), halves_(avx512 ? 1 : 2), num_regs_(num_regs) {}
+      : CodeWriter(a, avx512), vb_(avx512 ? 64 : 32), halves_(avx512 ? 1 : 2), num_regs_(num_regs) {}
 
   bool emit(const Tape& tape, const char** why) {
     // Prologue: the IntervalArgs pointer in rdi. Kept on the stack: it (at [rsp]) and fold_lanes
     // (at [rsp + 8]).
-    for (const x86::Gp& r : {x86::rbp, x86::rbx, x86::r12, x86::r13, x86::r14, x86::r15}) a_.push(r);
-    a_.sub(x86::rsp, 24);  // 16-byte stack alignment for calls
+    prologue(24);
     a_.mov(x86::ptr(x86::rsp), x86::rdi);
     a_.mov(x86::eax, x86::dword_ptr(x86::rdi, offsetof(IntervalArgs, fold_lanes)));
     a_.mov(x86::dword_ptr(x86::rsp, 8), x86::eax);
@@ -765,15 +794,8 @@ class IntervalEmitter {
     a_.mov(x86::rax, x86::ptr(x86::rsp));
     a_.mov(x86::ptr(x86::rax, offsetof(IntervalArgs, mins)), kMins);
     a_.mov(x86::ptr(x86::rax, offsetof(IntervalArgs, folds)), kFolds);
-    a_.vzeroupper();
-    a_.add(x86::rsp, 24);
-    for (const x86::Gp& r : {x86::r15, x86::r14, x86::r13, x86::r12, x86::rbx, x86::rbp}) a_.pop(r);
-    a_.ret();
-    a_.align(AlignMode::kData, 4);
-    for (auto& [bits, label] : pool_) {
-      a_.bind(label);
-      a_.embedUInt32(bits);
-    }
+    epilogue(24);
+    emit_pool();
     return true;
   }
 
@@ -783,23 +805,13 @@ class IntervalEmitter {
                            kMins = x86::r14, kFolds = x86::r15;
   // Vector registers: v0-v3 arguments (a lo, a hi, b lo, b hi), v4-v7 results and temporaries,
   // masks in k1-k3 (AVX-512) or v8-v10 (AVX2), constants in v11-v15.
-  x86::Vec v(int i) const {
-    return avx512_ ? x86::Vec(x86::zmm(static_cast<std::uint32_t>(i))) : x86::Vec(x86::ymm(static_cast<std::uint32_t>(i)));
-  }
+  x86::Vec v(int i) const { return reg(i); }
   x86::Vec sign() const { return v(11); }
   x86::Vec nan() const { return v(12); }
   x86::Vec ninf() const { return v(13); }
   x86::Vec pinf() const { return v(14); }
   x86::Vec zero() const { return v(15); }
 
-  Label constant(float value) {
-    const std::uint32_t bits = std::bit_cast<std::uint32_t>(value);
-    auto it = pool_.find(bits);
-    if (it == pool_.end()) it = pool_.emplace(bits, a_.newLabel()).first;
-    return it->second;
-  }
-  void broadcast(const x86::Vec& d, float value) { a_.vbroadcastss(d, x86::dword_ptr(constant(value))); }
-  void vxor(const x86::Vec& d, const x86::Vec& p, const x86::Vec& q) { avx512_ ? a_.vpxord(d, p, q) : a_.vxorps(d, p, q); }
   void load_constants() {
     broadcast(sign(), -0.0f);
     broadcast(nan(), std::numeric_limits<float>::quiet_NaN());
@@ -1148,11 +1160,8 @@ class IntervalEmitter {
     return true;
   }
 
-  x86::Assembler& a_;
-  bool avx512_;
   int vb_, halves_;
   std::uint32_t num_regs_;
-  std::unordered_map<std::uint32_t, Label> pool_;
 };
 
 }  // namespace
