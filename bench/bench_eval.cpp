@@ -145,6 +145,16 @@ BENCHMARK_CAPTURE(BM_GradOn, prospero_jit, "prospero.vm", "jit")->Arg(4096);
 BENCHMARK_CAPTURE(BM_GradOn, bear_interp, "bear.vm", "interp")->Arg(4096);
 BENCHMARK_CAPTURE(BM_GradOn, bear_jit, "bear.vm", "jit")->Arg(4096);
 
+// The counters of a compile benchmark: the tape's length, and the compile time per 1,000
+// instructions since `before`.
+void report_compile_time(benchmark::State& state, const frep::Tape& tape, const frep::JitStats& before) {
+  const frep::JitStats after = frep::jit_stats();
+  const double instructions = static_cast<double>(after.instructions_compiled - before.instructions_compiled);
+  state.counters["instructions"] = static_cast<double>(tape.code().size());
+  state.counters["compile_us_per_1000"] =
+      instructions > 0 ? static_cast<double>(after.compile_nanoseconds - before.compile_nanoseconds) / 1e3 / (instructions / 1000) : 0;
+}
+
 // Compiling a whole tape: a fresh evaluator (empty code cache) each time, asked for one point.
 void BM_JitCompile(benchmark::State& state, const char* name) {
   const frep::Tape* tape = load_tape(name);
@@ -158,11 +168,7 @@ void BM_JitCompile(benchmark::State& state, const char* name) {
     ev.eval(*tape, &p, &p, &p, &out, 1);
     benchmark::DoNotOptimize(out);
   }
-  const frep::JitStats s1 = frep::jit_stats();
-  const double instructions = static_cast<double>(s1.instructions_compiled - s0.instructions_compiled);
-  state.counters["instructions"] = static_cast<double>(tape->code().size());
-  state.counters["compile_us_per_1000"] =
-      instructions > 0 ? static_cast<double>(s1.compile_nanoseconds - s0.compile_nanoseconds) / 1e3 / (instructions / 1000) : 0;
+  report_compile_time(state, *tape, s0);
 }
 BENCHMARK_CAPTURE(BM_JitCompile, prospero, "prospero.vm")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_JitCompile, bear, "bear.vm")->Unit(benchmark::kMicrosecond);
@@ -208,11 +214,7 @@ void BM_JitIntervalCompile(benchmark::State& state, const char* name) {
     ev.eval(*tape, &x, &x, &x, 1);
     benchmark::DoNotOptimize(ev.result(0));
   }
-  const frep::JitStats s1 = frep::jit_stats();
-  const double instructions = static_cast<double>(s1.instructions_compiled - s0.instructions_compiled);
-  state.counters["instructions"] = static_cast<double>(tape->code().size());
-  state.counters["compile_us_per_1000"] =
-      instructions > 0 ? static_cast<double>(s1.compile_nanoseconds - s0.compile_nanoseconds) / 1e3 / (instructions / 1000) : 0;
+  report_compile_time(state, *tape, s0);
 }
 BENCHMARK_CAPTURE(BM_JitIntervalCompile, prospero, "prospero.vm")->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_JitIntervalCompile, bear, "bear.vm")->Unit(benchmark::kMicrosecond);

@@ -147,7 +147,7 @@ class TapeCode {
   // there. At least kTrialRuns passes before it are timed on the interpreter (see timed).
   void* function_for_pass(const Tape& tape, std::uint64_t passes) {
     last_ = nullptr;
-    if (passes + kTrialRuns < threshold_ || tape.interval_code_slower()) return nullptr;
+    if (passes + kTrialRuns < threshold_ || (threshold_ > 0 && tape.interval_code_slower())) return nullptr;
     Entry* e = entry(tape);
     if (!e) return nullptr;
     if (e->fn || e->failed) return e->fn;

@@ -44,7 +44,8 @@ struct JitOptions {
   // The same for the interval-batch evaluator, in passes over up to 16 boxes: bench/jit.sh
   // measures a break-even of 80 to 90 passes on Prospero and bear.vm (compiling costs about
   // 0.4 ms per 1,000 instructions, a compiled pass run back to back about half an interpreted
-  // one; code found slower where it runs is dropped). 0 compiles every tape on its first pass.
+  // one; code found slower where it runs is dropped). 0 compiles every tape on its first pass,
+  // and keeps it.
   std::size_t compile_after_interval_passes = 80;
   // Value tapes whose library calls (exp, sin, fmod, ...: scalar code called out to, one vector
   // at a time) are more than this share of their instructions stay interpreted: a call costs the
