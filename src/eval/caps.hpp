@@ -10,7 +10,9 @@
 // cap can go, although it may overlap its sibling: far terms of a big min tree are dropped
 // against the nearest term anywhere in the tree, not only against their direct sibling. Max
 // passes its cap to both sides; every other op gives its arguments +inf. A value used several
-// times gets the largest of its caps.
+// times gets the largest of its caps. A min whose sides both start above its cap is above it
+// throughout: one constant above the cap serves (only with a finite cap at the root, which a
+// consumer that reads only signs gives: Tape::simplify's root_cap).
 #pragma once
 
 #include <algorithm>
@@ -26,16 +28,31 @@ inline constexpr float kNone = std::numeric_limits<float>::infinity();
 // An interval's upper bound as a cap: +inf if unknown.
 inline float upper(float lo, float hi) { return lo <= hi ? hi : kNone; }
 
-// min(a, b) under cap c, where the interval evaluation kept both sides: which side alone is
-// enough (Choice::Both if neither), and the caps of the sides if both stay.
+// min(a, b) under cap c, where the interval evaluation kept both sides: whether it is above the
+// cap throughout (then `value` replaces it), else which side alone is enough (Choice::Both if
+// neither), and the caps of the sides if both stay.
 struct MinCaps {
+  bool above = false;
+  float value = 0;
   Choice choice = Choice::Both;
   float cap_a = kNone;
   float cap_b = kNone;
 };
 
+// The constant that replaces a min above its cap: the lower end of its interval, with a zero made
+// +0 (the 16-box and single-box passes may disagree on the sign of a zero bound).
+inline float above_value(float alo, float blo) {
+  const float v = std::min(alo, blo);
+  return v == 0.0f ? 0.0f : v;
+}
+
 inline MinCaps min_caps(float c, float alo, float ahi, float blo, float bhi) {
   MinCaps r;
+  if (alo <= ahi && blo <= bhi && alo > c && blo > c) {
+    r.above = true;
+    r.value = above_value(alo, blo);
+    return r;
+  }
   r.cap_a = std::min(c, upper(blo, bhi));
   r.cap_b = std::min(c, upper(alo, ahi));
   // Comparisons with NaN (unknown intervals) are false: no choice.

@@ -11,6 +11,7 @@
 #include <hwy/highway.h>
 
 #include <bit>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <optional>
@@ -34,8 +35,8 @@ struct SimplifyPass {
   std::size_t n, code_size;    // its SSA and register instructions
   std::uint32_t* marks;        // per SSA instruction: boxes needing it (bits 0-15, set for the
                                // root), and those of them where its cap is finite (bits 16-31)
-  std::uint16_t* sides;        // per choice: boxes keeping only a, only b
-  float* caps;                 // per choice and box: its cap
+  std::uint16_t* sides;        // per choice: boxes keeping only a, only b (both: a min above its cap)
+  float* caps;                 // per choice and box: its cap (then, for a min above it, its constant)
   const std::uint16_t* left;   // the interval pass's record, per register instruction
   const std::uint16_t* right;
   const std::uint16_t* fold;
@@ -327,31 +328,41 @@ void SimplifyBackward(const SimplifyPass& p) {
     if (ins.op == Op::Min || ins.op == Op::Max) {
       const std::size_t o = choice_ordinal(ins);
       std::uint32_t l = rest & p.left[kc], r = rest & p.right[kc], both = rest & ~(l | r);
+      std::uint32_t above = 0;  // boxes where it becomes a constant: in both sides' bits
       if (ins.op == Op::Min) {
         if (both) {
           // caps::min_caps on every lane: which side alone is enough, else the sides' caps.
-          const float* ci = caps + o * K;
+          float* ci = caps + o * K;
           const std::uint32_t fi = marks[i] >> 16;
-          std::uint32_t lb = 0, rb = 0;
+          std::uint32_t lb = 0, rb = 0, ab = 0;
           Lanes([&](D dd, int k) {
             const V c = hn::IfThenElse(LaneMask(dd, fi, k), hn::Load(dd, ci + k), inf);
             const V alo = hn::Load(dd, mins + k), ahi = hn::Load(dd, mins + K + k);
             const V blo = hn::Load(dd, mins + 2 * K + k), bhi = hn::Load(dd, mins + 3 * K + k);
             // caps::upper: an unknown (NaN) interval caps nothing.
-            const V ua = hn::IfThenElse(hn::Le(alo, ahi), ahi, inf), ub = hn::IfThenElse(hn::Le(blo, bhi), bhi, inf);
+            const auto known_a = hn::Le(alo, ahi), known_b = hn::Le(blo, bhi);
+            const V ua = hn::IfThenElse(known_a, ahi, inf), ub = hn::IfThenElse(known_b, bhi, inf);
             // Caps are only compared, so Min's choice between +0 and -0 does not matter.
             const V ca = hn::Min(c, ub), cb = hn::Min(c, ua);
-            const auto left = hn::Gt(blo, cb);
+            const auto above = hn::And(hn::And(known_a, known_b), hn::And(hn::Gt(alo, c), hn::Gt(blo, c)));
+            const auto left = hn::AndNot(above, hn::Gt(blo, cb));
+            ab |= Bits(dd, above) << k;
             lb |= Bits(dd, left) << k;
-            rb |= Bits(dd, hn::AndNot(left, hn::Gt(alo, ca))) << k;
+            rb |= Bits(dd, hn::AndNot(above, hn::AndNot(left, hn::Gt(alo, ca)))) << k;
             hn::Store(ca, dd, cap_a + k);
             hn::Store(cb, dd, cap_b + k);
           });
           l |= both & lb;
           r |= both & rb;
-          both &= ~(l | r);
+          above = both & ab;
+          both &= ~(l | r | above);
           use(ins.a, both, cap_a);
           use(ins.b, both, cap_b);
+          // Above its cap (caps::MinCaps::above): the constant goes where its cap was, read no more.
+          for (std::uint32_t bits = above; bits; bits &= bits - 1) {
+            const int k = __builtin_ctz(bits);
+            ci[k] = caps::above_value(mins[k], mins[2 * K + k]);
+          }
         }
       } else {
         pass(i, ins.a, both);
@@ -359,8 +370,8 @@ void SimplifyBackward(const SimplifyPass& p) {
       }
       pass(i, ins.a, l);
       pass(i, ins.b, r);
-      p.sides[2 * o] = static_cast<std::uint16_t>(l);
-      p.sides[2 * o + 1] = static_cast<std::uint16_t>(r);
+      p.sides[2 * o] = static_cast<std::uint16_t>(l | above);
+      p.sides[2 * o + 1] = static_cast<std::uint16_t>(r | above);
     } else if (op_is_choice(ins.op)) {
       const std::size_t o = choice_ordinal(ins);
       const std::uint32_t l = rest & p.left[kc], r = rest & p.right[kc], both = rest & ~(l | r);
@@ -448,7 +459,7 @@ void IntervalBatchEvaluator::eval(const Tape& tape, const Interval* x, const Int
 }
 
 std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t lanes, Tape* outs, double max_kept,
-                                              bool leaves) {
+                                              bool leaves, float root_cap) {
   const std::size_t n = size_;
   FREP_ASSERT(tape.size() == n && tape.code().size() == code_size_, "simplify needs the tape of the last eval");
   const std::uint32_t simplifiable = (1u << simplified_) - 1;
@@ -466,6 +477,12 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
   grow_scratch(sides_, 2 * choices);
   grow_scratch(caps_, choices * kLanes);
   marks_[n - 1] = lanes;
+  // A finite root cap, as the single-box pass gives it: only a min or max reads its cap.
+  FREP_ASSERT(!std::isnan(root_cap), "a root cap is a number");
+  if (root_cap < caps::kNone && (in[n - 1].op == Op::Min || in[n - 1].op == Op::Max)) {
+    marks_[n - 1] |= lanes << 16;
+    std::fill_n(caps_.begin() + static_cast<std::ptrdiff_t>(choice_ordinal(in[n - 1]) * kLanes), kLanes, root_cap);
+  }
   std::size_t kept[kLanes] = {};  // per box: live instructions, the most its tape can keep
   // Counted only where it matters: to leave out boxes keeping most of the tape, or to size the
   // outputs of big tapes; a small tape's outputs may as well be sized for all of it (counting
@@ -514,11 +531,19 @@ std::uint32_t IntervalBatchEvaluator::simplify(const Tape& tape, std::uint32_t l
     const std::uint32_t rest = m & ~f;
     const bool choice = op_is_choice(ins.op);
     const std::size_t o = choice ? choice_ordinal(ins) : 0;
-    const std::uint32_t l = choice ? rest & sides_[2 * o] : 0, r = choice ? rest & sides_[2 * o + 1] : 0;
+    std::uint32_t l = choice ? rest & sides_[2 * o] : 0, r = choice ? rest & sides_[2 * o + 1] : 0;
     const std::uint32_t keep = rest & ~(l | r);
+    // Both sides: a min above its cap, a constant kept in its cap slot.
+    const std::uint32_t above = l & r;
+    l &= ~above;
+    r &= ~above;
     for (std::uint32_t bits = f; bits; bits &= bits - 1) {
       const int k = __builtin_ctz(bits);
       builders[k]->constant(i, fold_values[k]);
+    }
+    for (std::uint32_t bits = above; bits; bits &= bits - 1) {
+      const int k = __builtin_ctz(bits);
+      builders[k]->constant(i, caps_[o * kLanes + static_cast<std::size_t>(k)]);
     }
     for (std::uint32_t bits = l; bits; bits &= bits - 1) builders[__builtin_ctz(bits)]->alias(i, ins.a);
     for (std::uint32_t bits = r; bits; bits &= bits - 1) builders[__builtin_ctz(bits)]->alias(i, ins.b);

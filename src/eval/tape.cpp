@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 
 #include "frep/error.hpp"
 #include "frep/expr/oracle.hpp"
@@ -20,7 +21,8 @@ bool foldable(Op op, float lo, float hi) {
 }
 
 // Instruction states during single-box simplification. kLive is a bit no later state clears.
-enum : std::uint8_t { kDead = 0, kLive = 1, kKeep = 3, kConst = 5, kLeft = 7, kRight = 9 };
+// kAbove: a constant whose value is in the instruction's cap slot (caps::MinCaps::above).
+enum : std::uint8_t { kDead = 0, kLive = 1, kKeep = 3, kConst = 5, kLeft = 7, kRight = 9, kAbove = 11 };
 
 }  // namespace
 
@@ -64,10 +66,11 @@ Tape Tape::from_ssa(const std::vector<SsaInstr>& ssa, std::shared_ptr<const Orac
 }
 
 void Tape::simplify(const std::vector<Interval>& values, const std::vector<Choice>& choices, Tape& out,
-                    bool registers) const {
+                    bool registers, float root_cap) const {
   FREP_ASSERT(&out != this, "simplify into itself");
   FREP_ASSERT(values.size() >= ssa_size_ && choices.size() >= ssa_size_, "interval results do not match the tape");
-  rebuild(ssa(), values.data(), choices.data(), out, registers);
+  FREP_ASSERT(!std::isnan(root_cap), "a root cap is a number");
+  rebuild(ssa(), values.data(), choices.data(), out, registers, root_cap);
   out.oracles_ = oracles_;
 }
 
@@ -78,7 +81,7 @@ Tape Tape::simplified(const std::vector<Interval>& values, const std::vector<Cho
 }
 
 void Tape::rebuild(std::span<const SsaInstr> src, const Interval* values, const Choice* choices, Tape& out,
-                   bool registers) {
+                   bool registers, float root_cap) {
   const std::size_t n = src.size();
   FREP_ASSERT(n > 0, "empty tape");
   const SsaInstr* in = src.data();
@@ -88,7 +91,7 @@ void Tape::rebuild(std::span<const SsaInstr> src, const Interval* values, const 
   if (values && out.caps_.size() < n) out.caps_.resize(n);
   float* cap = out.caps_.data();
   st[n - 1] = kLive;
-  if (values) cap[n - 1] = caps::kNone;
+  if (values) cap[n - 1] = root_cap;
   // Marks j live with cap c (the largest of its caps so far). Below i, only kDead or kLive are set yet.
   const auto use = [&](std::uint32_t j, float c) {
     if (values) cap[j] = st[j] == kDead ? c : std::max(cap[j], c);
@@ -109,6 +112,11 @@ void Tape::rebuild(std::span<const SsaInstr> src, const Interval* values, const 
         if (ins.op == Op::Min && c == Choice::Both) {
           const caps::MinCaps mc = caps::min_caps(ci, values[ins.a].lo, values[ins.a].hi, values[ins.b].lo,
                                                   values[ins.b].hi);
+          if (mc.above) {
+            st[i] = kAbove;
+            cap[i] = mc.value;  // its cap is read no more
+            continue;
+          }
           c = mc.choice;
           if (c == Choice::Both) {
             st[i] = kKeep;
@@ -142,6 +150,7 @@ void Tape::rebuild(std::span<const SsaInstr> src, const Interval* values, const 
       case kLeft: b.alias(i, in[i].a); break;
       case kRight: b.alias(i, in[i].b); break;
       case kConst: b.constant(i, values[i].lo); break;
+      case kAbove: b.constant(i, cap[i]); break;
       default: b.keep(i, in[i]);
     }
   }

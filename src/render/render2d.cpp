@@ -43,6 +43,7 @@ Renderer2D::Renderer2D(RenderOptions options) : options_(std::move(options)) {
   so.tiles = options_.tiles;
   so.threads = options_.threads;
   so.lipschitz = options_.lipschitz;
+  so.value_cap = 0.0f;  // pixels read only whether values are negative
   subdivider_ = std::make_unique<Subdivider>(so);
   for (int i = 0; i < subdivider_->workers(); ++i) workers_.push_back(std::make_unique<Worker>());
 }

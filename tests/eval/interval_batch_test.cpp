@@ -31,7 +31,9 @@ bool same_tape(const Tape& a, const Tape& b) {
   return a.choice_count() == b.choice_count() && a.vars_used() == b.vars_used();
 }
 
-void check_against_scalar(const Tape& tape, std::mt19937_64& rng, int count) {
+// With a root cap, the tapes must be those single-box simplification gives with that cap (their
+// values are checked by the simplification tests).
+void check_against_scalar(const Tape& tape, std::mt19937_64& rng, int count, float cap = kExactValues) {
   std::vector<Interval> xs(count), ys(count), zs(count);
   for (int k = 0; k < count; ++k) {
     xs[k] = test::random_interval(rng);
@@ -42,13 +44,15 @@ void check_against_scalar(const Tape& tape, std::mt19937_64& rng, int count) {
   batch.eval(tape, xs.data(), ys.data(), zs.data(), count);
   IntervalEvaluator scalar;
   std::vector<Tape> batch_out(IntervalBatchEvaluator::kLanes);
-  batch.simplify(tape, (1u << count) - 1, batch_out.data());
+  batch.simplify(tape, (1u << count) - 1, batch_out.data(), 1.0, true, cap);
   for (int k = 0; k < count; ++k) {
     scalar.eval(tape, xs[k], ys[k], zs[k]);
     ASSERT_TRUE(same_interval(scalar.values().back(), batch.result(k)))
         << "box " << k << ": scalar " << test::istr(scalar.values().back()) << " batch " << test::istr(batch.result(k));
-    const Tape one = tape.simplified(scalar.values(), scalar.choices());
+    Tape one;
+    tape.simplify(scalar.values(), scalar.choices(), one, true, cap);
     EXPECT_TRUE(same_tape(one, batch_out[k])) << "box " << k << ": " << one.size() << " vs " << batch_out[k].size();
+    if (cap != kExactValues) continue;
     // And the simplified tape gives the full tape's values inside the box.
     PointEvaluator pe;
     for (int s = 0; s < 8; ++s) {
@@ -92,6 +96,22 @@ TEST(IntervalBatch, MatchesScalarOnMinMaxHeavyExpressions) {
   });
 }
 
+TEST(IntervalBatch, MatchesScalarWithARootCap) {
+  test::for_each_simd_target([&] {
+    std::mt19937_64 rng(8);
+    for (int trial = 0; trial < 100; ++trial) {
+      Graph g;
+      test::GenOptions opt;
+      opt.max_depth = 6;
+      opt.ops = {Op::Min, Op::Max, Op::Add, Op::Sub, Op::Mul, Op::Square, Op::Sqrt, Op::Neg, Op::Abs, Op::And, Op::Or};
+      test::ExprGen gen(g, rng, opt);
+      const NodeId a = gen.gen(), b = gen.gen();
+      const Tape tape = Tape::compile(g, g.binary(trial % 2 ? Op::Min : Op::Max, a, b));
+      check_against_scalar(tape, rng, 1 + trial % 16, trial % 3 ? 0.0f : std::uniform_real_distribution<float>(-2, 2)(rng));
+    }
+  });
+}
+
 TEST(IntervalBatch, MatchesScalarOnProsperoTiles) {
   FREP_REQUIRE_DATA("prospero.vm");
   const Model m = read_vm(test::data_file("prospero.vm"));
@@ -120,6 +140,17 @@ TEST(IntervalBatch, MatchesScalarOnProsperoTiles) {
     total += outs[k].size();
   }
   EXPECT_LT(total, 16 * tape.size() / 2) << "pruning should shrink the tiles' tapes a lot";
+  // Again from the same pass, with the root cap of a render that reads only signs.
+  batch.simplify(tape, 0xFFFF, outs.data(), 1.0, true, 0.0f);
+  std::size_t capped = 0;
+  for (int k = 0; k < 16; ++k) {
+    scalar.eval(tape, xs[k], ys[k], zs[k]);
+    Tape one;
+    tape.simplify(scalar.values(), scalar.choices(), one, true, 0.0f);
+    EXPECT_TRUE(same_tape(one, outs[k])) << "tile " << k << " with the sign cap";
+    capped += outs[k].size();
+  }
+  EXPECT_LT(capped, total * 3 / 4) << "the sign cap should drop much more of Prospero";
 }
 
 }  // namespace

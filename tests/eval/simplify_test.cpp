@@ -19,7 +19,9 @@ using test::same_value;
 
 class SimplifyChecker {
  public:
-  SimplifyChecker(const Tape& full, std::mt19937_64& rng) : full_(full), rng_(rng) {}
+  // With a finite `cap`, tapes are simplified with that root cap (Tape::simplify): they must give
+  // full_'s values where those are <= cap (or NaN), and values > cap where full_'s are.
+  SimplifyChecker(const Tape& full, std::mt19937_64& rng, float cap = kExactValues) : full_(full), rng_(rng), cap_(cap) {}
 
   // Simplifies `tape` (a simplification of full_, or full_ itself) over `box`, checks the result
   // against full_ at points inside the box, and recurses into sub-boxes down to `depth` levels.
@@ -28,23 +30,31 @@ class SimplifyChecker {
     ie.eval(tape, box.x, box.y, box.z);
     const std::vector<Interval> iv(ie.values().begin(), ie.values().begin() + tape.size());
     Tape s;
-    tape.simplify(ie.values(), ie.choices(), s);
+    tape.simplify(ie.values(), ie.choices(), s, true, cap_);
     ++simplified_;
     EXPECT_LE(s.size(), tape.size());
     EXPECT_LE(s.choice_count(), tape.choice_count());
-    // The other entry point gives the same tape.
-    Tape s2;
-    IntervalEvaluator ie2;
-    ie2.simplify(tape, box.x, box.y, box.z, s2);
-    EXPECT_EQ(s2.size(), s.size());
+    Tape exact;
+    tape.simplify(ie.values(), ie.choices(), exact);
+    EXPECT_LE(s.size(), exact.size()) << "a root cap can only drop more";
+    if (s.size() < exact.size()) ++shorter_than_exact_;
+    if (cap_ == kExactValues) {
+      // The other entry point gives the same tape.
+      Tape s2;
+      IntervalEvaluator ie2;
+      ie2.simplify(tape, box.x, box.y, box.z, s2);
+      EXPECT_EQ(s2.size(), s.size());
+    }
     if (s.size() < tape.size()) ++shorter_;
 
+    // Exact where the full tape is <= cap (or NaN), above the cap where it is above.
+    const auto agrees = [&](float got, float want) { return want > cap_ ? got > cap_ : same_value(got, want); };
     for (const test::Point3& p : test::points_in(box, rng_, points)) {
       const float want = pe_.eval(full_, p.x, p.y, p.z);
       const float parent = pe_.eval(tape, p.x, p.y, p.z);
       const float got = pe_.eval(s, p.x, p.y, p.z);
       ++checked_;
-      if (!same_value(got, want) || !same_value(parent, want)) {
+      if (!agrees(got, want) || !agrees(parent, want)) {
         ADD_FAILURE() << "simplified over x" << istr(box.x) << " y" << istr(box.y) << " z" << istr(box.z)
                       << " (depth " << depth << "): at (" << fstr(p.x) << ", " << fstr(p.y) << ", " << fstr(p.z)
                       << ") the full tape gives " << fstr(want) << ", the parent " << fstr(parent)
@@ -72,13 +82,14 @@ class SimplifyChecker {
     }
   }
 
-  int simplified_ = 0, shorter_ = 0;
+  int simplified_ = 0, shorter_ = 0, shorter_than_exact_ = 0;
   long checked_ = 0;
   bool failed_ = false;
 
  private:
   const Tape& full_;
   std::mt19937_64& rng_;
+  float cap_;
   PointEvaluator pe_;
 };
 
@@ -116,6 +127,38 @@ TEST(Simplify, RandomChoiceHeavyExpressionsWhileSubdividing) {
   }
   EXPECT_GT(checked, 50000);
   EXPECT_GT(shorter, simplified / 20) << "simplification almost never shortens choice-heavy tapes";
+}
+
+// A root cap C (what a sign-only consumer passes, C = 0): values <= C stay exact, values above
+// only stay above, through repeated simplification while subdividing; and it drops terms exact
+// simplification cannot (a union's terms that are only positive in the box).
+TEST(Simplify, RootCapKeepsValuesUpToItAndOnlyWhichSideAbove) {
+  std::mt19937_64 rng(2026);
+  long checked = 0;
+  int simplified = 0, shorter_than_exact = 0;
+  for (int e = 0; e < 300; ++e) {
+    Graph g;
+    test::GenOptions opt;
+    opt.max_depth = 4 + e % 4;
+    opt.ops = {Op::Min, Op::Max, Op::Min, Op::Max, Op::Min, Op::Max, Op::And, Op::Or, Op::Add, Op::Sub,
+               Op::Mul, Op::Neg, Op::Abs, Op::Square, Op::Sqrt, Op::Compare, Op::Sin, Op::Div, Op::Exp};
+    opt.special_const_prob = e % 3 == 0 ? 0.1 : 0.0;
+    test::ExprGen gen(g, rng, opt);
+    // A union or intersection at the root, the shape of a CSG model (only a min or max reads a cap).
+    const NodeId a = gen.gen(), b = gen.gen();
+    const Tape t = Tape::compile(g, g.binary(e % 2 ? Op::Min : Op::Max, a, b));
+    const float cap = e % 4 == 0 ? std::uniform_real_distribution<float>(-2, 2)(rng) : 0.0f;
+    SimplifyChecker c(t, rng, cap);
+    for (int k = 0; k < 4 && !c.failed_; ++k) {
+      const Box box = k == 3 ? Box{test::random_interval(rng), test::random_interval(rng), test::random_interval(rng)}
+                             : everyday_box(rng, 3);
+      c.run(t, box, 3, 10);
+    }
+    checked += c.checked_, simplified += c.simplified_, shorter_than_exact += c.shorter_than_exact_;
+    if (c.failed_) FAIL() << "expression #" << e << " (cap " << cap << ") failed";
+  }
+  EXPECT_GT(checked, 40000);
+  EXPECT_GT(shorter_than_exact, simplified / 100) << "a root cap should drop more than exact simplification";
 }
 
 TEST(Simplify, SelectsAndPiecewiseFunctions) {
@@ -233,11 +276,12 @@ TEST(SimplifyRegression, DivByIntervalWithZeroAndInfinity) {
       << "full " << fstr(pe.eval(t, inf, inf, 0)) << ", simplified " << fstr(pe.eval(s, inf, inf, 0));
 }
 
-void check_model(const std::string& name, bool three_d, int boxes, int depth, int points, double min_shorter) {
+void check_model(const std::string& name, bool three_d, int boxes, int depth, int points, double min_shorter,
+                 float cap = kExactValues) {
   const Model m = read_vm(test::data_file(name));
   const Tape t = Tape::compile(*m.graph, m.root);
   std::mt19937_64 rng(43);
-  SimplifyChecker c(t, rng);
+  SimplifyChecker c(t, rng, cap);
   int small = 0, small_shorter = 0;
   for (int b = 0; b < boxes && !c.failed_; ++b) {
     auto iv = [&](double w) {
@@ -257,11 +301,20 @@ void check_model(const std::string& name, bool three_d, int boxes, int depth, in
   }
   EXPECT_FALSE(c.failed_);
   EXPECT_GE(small_shorter, min_shorter * small) << name << ": small boxes should usually prune the tape";
+  if (cap != kExactValues) {
+    EXPECT_GT(c.shorter_than_exact_, c.simplified_ / 20) << name << ": the cap should prune more";
+  }
 }
 
 TEST(Simplify, ProsperoRandomBoxesAndSubdivision) {
   FREP_REQUIRE_DATA("prospero.vm");
   check_model("prospero.vm", false, 40, 4, 6, 0.9);
+}
+
+// As a 2D render simplifies it: only signs matter.
+TEST(Simplify, ProsperoWithTheSignCap) {
+  FREP_REQUIRE_DATA("prospero.vm");
+  check_model("prospero.vm", false, 40, 4, 6, 0.9, 0.0f);
 }
 
 TEST(Simplify, BearRandomBoxesAndSubdivision) {

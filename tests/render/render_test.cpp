@@ -112,6 +112,26 @@ TEST(Render, RandomTwoDimensionalExpressions) {
   }
 }
 
+// Unions and intersections at the root, as CSG models have: the renderer reads only signs, so it
+// simplifies with a root cap of 0 (terms only positive in a tile go), which must not change a pixel.
+TEST(Render, RandomUnionsAndIntersections) {
+  std::mt19937_64 rng(82);
+  for (int e = 0; e < 60; ++e) {
+    Graph g;
+    test::GenOptions opt;
+    opt.vars = 2;
+    opt.max_depth = 4 + e % 4;
+    opt.special_const_prob = 0.02;
+    opt.const_range = 1.5f;
+    opt.ops = {Op::Min, Op::Max, Op::Min, Op::Max, Op::Add, Op::Sub, Op::Mul, Op::Neg, Op::Abs, Op::Square, Op::Sqrt, Op::Sin};
+    test::ExprGen gen(g, rng, opt);
+    const NodeId a = gen.gen(), b = gen.gen();
+    const Tape t = Tape::compile(g, g.binary(e % 2 ? Op::Min : Op::Max, a, b));
+    expect_renders_match(t, e % 2 ? 67 : 64, "random union or intersection #" + std::to_string(e));
+    if (::testing::Test::HasFailure()) return;
+  }
+}
+
 TEST(Render, RendererObjectIsReusableAcrossTapes) {
   Graph g;
   auto x = g.x(), y = g.y();

@@ -42,7 +42,9 @@ class IntervalBatchEvaluator {
   // (`tape` serves them nearly as well, and writing a copy costs more than evaluating the rest).
   // Returns the boxes whose tape was written. Without `leaves`, the outputs only run further
   // interval passes, which afford one register per value on bigger tapes (no allocation pass).
-  std::uint32_t simplify(const Tape& tape, std::uint32_t lanes, Tape* outs, double max_kept = 1.0, bool leaves = true);
+  // `root_cap`: as in Tape::simplify (0 for a consumer that reads only signs).
+  std::uint32_t simplify(const Tape& tape, std::uint32_t lanes, Tape* outs, double max_kept = 1.0, bool leaves = true,
+                         float root_cap = kExactValues);
 
  private:
   // The evaluation runs on registers (the kernel's), so its memory is the register file's, not
@@ -55,8 +57,8 @@ class IntervalBatchEvaluator {
   int simplified_ = 0;         // boxes of the last eval that simplify may take
   // Scratch for simplify.
   LargeVector<std::uint32_t> marks_;       // per SSA instruction: boxes needing it, and (16 bits up) where it has a cap
-  LargeVector<std::uint16_t> sides_;       // per choice: boxes keeping only a, only b
-  LargeVector<float> caps_;                // per choice and box: its cap
+  LargeVector<std::uint16_t> sides_;       // per choice: boxes keeping only a, only b (both: a constant)
+  LargeVector<float> caps_;                // per choice and box: its cap, or that constant
   LargeVector<std::uint32_t> remap_;       // per SSA instruction and box built: its index in that box's tape
 };
 

@@ -70,6 +70,11 @@ struct SubdivisionOptions {
   double lipschitz = 0;                    // L with |f(p) - f(q)| <= L |p - q| in the grid's coordinates (1 for exact
                                            // distances), or 0 if unknown: boxes then also settle from their centre's
                                            // value, f(c) +- L * half-diagonal (see lipschitz_bound)
+  float value_cap = kExactValues;          // C: the visitor needs values exactly only where they are <= C, elsewhere
+                                           // only that they are > C (0 for inside/outside images). Tapes are then
+                                           // simplified with root cap C (Tape::simplify), much shorter ones for
+                                           // signs; intervals still settle boxes against C rightly. Not used with
+                                           // a Lipschitz bound (a centre's value above C is not the expression's)
 };
 
 // Reusable: keeps the pool, per-worker evaluators and tape storage between runs.
@@ -222,7 +227,8 @@ void Subdivider::settle(Worker& w, const Tape& t, const SampleGrid& grid, bool l
       d = std::move(w.spare.back());
       w.spare.pop_back();
     }
-  const std::uint32_t built = reuse ? 0 : w.boxes.simplify(t, open, dst, parent_serves ? kMaxKept : 1.0, last);
+  const float cap = options_.lipschitz > 0 ? kExactValues : options_.value_cap;
+  const std::uint32_t built = reuse ? 0 : w.boxes.simplify(t, open, dst, parent_serves ? kMaxKept : 1.0, last, cap);
   for (std::uint32_t bits = open; bits; bits &= bits - 1) {
     const int k = __builtin_ctz(bits);
     const Tape* child = built >> k & 1 ? &dst[k] : &t;

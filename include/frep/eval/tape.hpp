@@ -5,6 +5,7 @@
 #include <atomic>
 #include <bit>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <span>
 #include <vector>
@@ -43,6 +44,9 @@ struct RegInstr {
 };
 
 class IntervalBatchEvaluator;
+
+// The root cap of simplification (Tape::simplify) that keeps every value exact.
+inline constexpr float kExactValues = std::numeric_limits<float>::infinity();
 
 class Tape {
  public:
@@ -90,8 +94,12 @@ class Tape {
   // constant, and dead code is dropped. Writes into `out` to reuse its storage. Without
   // `registers`, only the SSA form is built: enough for further interval evaluation and
   // simplification, not for the point, batch or gradient evaluators.
+  // `root_cap` C: the output equals this tape wherever this tape's value is <= C, and is > C
+  // wherever it is > C. +inf (the default) keeps every value exact; a consumer that reads only
+  // signs (an inside/outside image) passes 0, and then terms that can only change positive
+  // values go too (far parts of a union, intersections with a shape the region lies outside of).
   void simplify(const std::vector<Interval>& values, const std::vector<Choice>& choices, Tape& out,
-                bool registers = true) const;
+                bool registers = true, float root_cap = kExactValues) const;
   Tape simplified(const std::vector<Interval>& values, const std::vector<Choice>& choices) const;
   // (For many boxes at once, see IntervalBatchEvaluator::simplify.)
 
@@ -99,7 +107,7 @@ class Tape {
   friend class IntervalBatchEvaluator;
   class Builder;
   static void rebuild(std::span<const SsaInstr> src, const Interval* values, const Choice* choices, Tape& out,
-                      bool registers);
+                      bool registers, float root_cap = kExactValues);
   // Renames the builder's one-register-per-value code (see tape_builder.hpp) to reuse registers.
   void allocate_registers();
 
