@@ -5,14 +5,16 @@
 //
 // An instruction's cap C over a box says: the root does not change if the instruction's value is
 // replaced by any value that equals it wherever it is <= C and stays > C wherever it is > C. The
-// root's cap is +inf (its value must stay exact). In min(a, b) with cap C, a matters only
+// root's cap is +inf (its value must stay exact), or the root cap a consumer that reads less
+// gives (Tape::simplify's root_cap; 0 where only signs are read). In min(a, b) with cap C, a matters only
 // below min(C, hi(b)): above hi(b), b wins anyway. So a min side whose interval starts above its
 // cap can go, although it may overlap its sibling: far terms of a big min tree are dropped
 // against the nearest term anywhere in the tree, not only against their direct sibling. Max
 // passes its cap to both sides; every other op gives its arguments +inf. A value used several
 // times gets the largest of its caps. A min whose sides both start above its cap is above it
-// throughout: one constant above the cap serves (only with a finite cap at the root, which a
-// consumer that reads only signs gives: Tape::simplify's root_cap).
+// throughout: one constant above the cap serves (it needs a finite cap: from the root cap, or
+// from a sibling's upper bound through a max). A known interval holds no NaN, so nothing that
+// can be NaN is ever dropped or replaced.
 #pragma once
 
 #include <algorithm>

@@ -129,7 +129,7 @@ TEST(IntervalBatch, MatchesScalarOnProsperoTiles) {
   std::vector<Tape> outs(16);
   batch.simplify(tape, 0xFFFF, outs.data());
   IntervalEvaluator scalar;
-  std::size_t total = 0;
+  std::size_t total = 0, exact[16];
   for (int k = 0; k < 16; ++k) {
     scalar.eval(tape, xs[k], ys[k], zs[k]);
     EXPECT_TRUE(same_interval(scalar.values().back(), batch.result(k)));
@@ -138,19 +138,27 @@ TEST(IntervalBatch, MatchesScalarOnProsperoTiles) {
     EXPECT_TRUE(same_tape(one, outs[k])) << "tile " << k;
     EXPECT_FALSE(outs[k].code().empty());  // with register code, for the next level's interval pass
     total += outs[k].size();
+    exact[k] = outs[k].size();
   }
   EXPECT_LT(total, 16 * tape.size() / 2) << "pruning should shrink the tiles' tapes a lot";
-  // Again from the same pass, with the root cap of a render that reads only signs.
+  // Again from the same pass, with the root cap of a render that reads only signs. Compared on
+  // the tiles a render would not settle (the others collapse to a constant).
   batch.simplify(tape, 0xFFFF, outs.data(), 1.0, true, 0.0f);
-  std::size_t capped = 0;
+  std::size_t capped = 0, uncapped = 0;
+  int open = 0;
   for (int k = 0; k < 16; ++k) {
     scalar.eval(tape, xs[k], ys[k], zs[k]);
     Tape one;
     tape.simplify(scalar.values(), scalar.choices(), one, true, 0.0f);
     EXPECT_TRUE(same_tape(one, outs[k])) << "tile " << k << " with the sign cap";
+    const Interval v = batch.result(k);
+    if (v.hi < 0 || v.lo >= 0) continue;
+    ++open;
     capped += outs[k].size();
+    uncapped += exact[k];
   }
-  EXPECT_LT(capped, total * 3 / 4) << "the sign cap should drop much more of Prospero";
+  EXPECT_GE(open, 8);
+  EXPECT_LT(capped, uncapped * 3 / 4) << "the sign cap should drop much more of Prospero's undecided tiles";
 }
 
 }  // namespace

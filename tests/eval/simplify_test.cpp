@@ -36,7 +36,8 @@ class SimplifyChecker {
     EXPECT_LE(s.choice_count(), tape.choice_count());
     Tape exact;
     tape.simplify(ie.values(), ie.choices(), exact);
-    EXPECT_LE(s.size(), exact.size()) << "a root cap can only drop more";
+    // (Not always shorter: where exact simplification aliases a min to one side, the capped one
+    // may write a constant above the cap instead, one instruction more.)
     if (s.size() < exact.size()) ++shorter_than_exact_;
     if (cap_ == kExactValues) {
       // The other entry point gives the same tape.

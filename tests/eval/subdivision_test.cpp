@@ -197,6 +197,73 @@ void check_lipschitz(int spheres_count, int n, std::vector<int> tiles) {
 TEST(Subdivision, LipschitzBoundSettlesBoxesByTheirCentre) { check_lipschitz(40, 48, {16, 8, 4}); }
 TEST(Subdivision, LipschitzBoundOnABigTape) { check_lipschitz(20000, 16, {8, 4, 2}); }
 
+// A visitor that reads only signs sets value_cap = 0: boxes settle on signs, and leaf tapes must
+// give the whole tape's sign at every sample (its value where that is <= 0). They are shorter
+// than exact leaf tapes: far spheres go even where no sphere lies below them. With a Lipschitz
+// bound the cap is not used (the same leaf tapes as without it).
+TEST(Subdivision, SignCapKeepsSignsAndShortensLeafTapes) {
+  Graph g;
+  const Tape t = spheres(g, 60, 12);
+  const SampleGrid s = grid(40);
+  struct SignChecker {
+    SignChecker(const Tape& t, const SampleGrid& g) : whole(t), grid(g) {}
+    const Tape& whole;
+    const SampleGrid& grid;
+    std::mutex m;
+    BatchEvaluator eval;
+    std::size_t leaf_instructions = 0, samples = 0;
+    std::string wrong;
+    std::vector<float> values(const Tape& tape, const IndexBox& b) {
+      std::vector<float> xs, ys, zs, out;
+      for (int z = b.lo[2]; z < b.hi[2]; ++z)
+        for (int y = b.lo[1]; y < b.hi[1]; ++y)
+          for (int x = b.lo[0]; x < b.hi[0]; ++x) {
+            xs.push_back(grid.coords[0][static_cast<std::size_t>(x)]);
+            ys.push_back(grid.coords[1][static_cast<std::size_t>(y)]);
+            zs.push_back(grid.coords[2][static_cast<std::size_t>(z)]);
+          }
+      out.resize(xs.size());
+      eval.eval(tape, xs.data(), ys.data(), zs.data(), out.data(), xs.size());
+      return out;
+    }
+    bool settled(int, const IndexBox& b, Interval v) {
+      if (!(v.hi < 0) && !(v.lo >= 0)) return false;
+      std::lock_guard<std::mutex> l(m);
+      for (float f : values(whole, b))
+        if ((f < 0) != (v.hi < 0) && wrong.empty()) wrong = "a settled box has a sample of the other sign";
+      return true;
+    }
+    void leaf(int, const Tape& tape, const IndexBox& b) {
+      std::lock_guard<std::mutex> l(m);
+      const std::vector<float> want = values(whole, b), got = values(tape, b);
+      leaf_instructions += tape.size();
+      samples += want.size();
+      for (std::size_t i = 0; i < want.size(); ++i) {
+        const bool ok = want[i] > 0 ? got[i] > 0 : std::memcmp(&want[i], &got[i], sizeof(float)) == 0;
+        if (!ok && wrong.empty()) wrong = "a leaf tape gives " + std::to_string(got[i]) + " for " + std::to_string(want[i]);
+      }
+    }
+  };
+  std::size_t exact = 0;
+  for (double lipschitz : {0.0, 1.0})
+    for (float cap : {kExactValues, 0.0f})
+      for (int threads : {1, 2}) {
+        SCOPED_TRACE("cap " + std::to_string(cap) + ", Lipschitz " + std::to_string(lipschitz) + ", threads " +
+                     std::to_string(threads));
+        SubdivisionOptions o{{16, 8, 4}, threads, 0};
+        o.lipschitz = lipschitz;
+        o.value_cap = cap;
+        Subdivider d(o);
+        SignChecker c(t, s);
+        d.run(t, s, c);
+        EXPECT_EQ(c.wrong, "");
+        EXPECT_GT(c.samples, 0u);
+        if (cap == kExactValues) exact = c.leaf_instructions;
+        else if (lipschitz == 0) EXPECT_LT(c.leaf_instructions, exact * 3 / 4) << "the sign cap should drop far spheres";
+        else EXPECT_EQ(c.leaf_instructions, exact) << "no cap with a Lipschitz bound";
+      }
+}
+
 // lipschitz_bound narrows an interval to f(c) +- L r, rounded outward, and never widens it.
 TEST(Subdivision, LipschitzBoundNarrowsOnlyWithinTheBox) {
   const Interval box{-5, 7};

@@ -94,8 +94,8 @@ class Tape {
   // constant, and dead code is dropped. Writes into `out` to reuse its storage. Without
   // `registers`, only the SSA form is built: enough for further interval evaluation and
   // simplification, not for the point, batch or gradient evaluators.
-  // `root_cap` C: the output equals this tape wherever this tape's value is <= C, and is > C
-  // wherever it is > C. +inf (the default) keeps every value exact; a consumer that reads only
+  // `root_cap` C: the output equals this tape wherever this tape's value is <= C or NaN, and is
+  // > C wherever it is > C. +inf (the default) keeps every value exact; a consumer that reads only
   // signs (an inside/outside image) passes 0, and then terms that can only change positive
   // values go too (far parts of a union, intersections with a shape the region lies outside of).
   void simplify(const std::vector<Interval>& values, const std::vector<Choice>& choices, Tape& out,
