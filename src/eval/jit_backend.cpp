@@ -91,18 +91,18 @@ class TapeCode {
   // interpreter was on the same tape is dropped and the tape interpreted from then on, by
   // every evaluator (Tape::interval_code_slower): straight-line code for a long tape, run now
   // and then between other work, runs from cold caches (Prospero's interval pass inside a render: 217 us compiled, 62 us interpreted).
+  // Only called while tracking().
   void timed(const Tape& tape, bool compiled, double ns) {
     Entry* e = last_;
-    if (!e) return;
     if (!compiled) {
       e->interp_ns += ns;
       ++e->interp_runs;
       return;
     }
-    if (!e->fn || e->interp_runs == 0) return;
     e->code_ns += ns;
-    if (++e->code_runs < kTrialRuns) return;
-    if (e->code_runs > kTrialRuns) return;
+    // The verdict, once: after it the tape is no longer tracked. Without interpreted runs to
+    // compare with (a threshold of 1), the code stays.
+    if (++e->code_runs < kTrialRuns || e->interp_runs == 0) return;
     const double code = e->code_ns / e->code_runs, interp = e->interp_ns / e->interp_runs;
     if (debug_enabled())
       std::fprintf(stderr, "frep jit: %s the code of a tape (intervals): %.1f us a pass, against %.1f us interpreted\n",
@@ -117,8 +117,10 @@ class TapeCode {
     }
   }
   static constexpr std::uint32_t kTrialRuns = 8;
-  // Whether the last function_for_pass found the tape in the table (its run is to be timed).
-  bool tracking() const { return last_ != nullptr; }
+  // Whether the run after the last function_for_pass is to be timed: its tape is on trial (its
+  // last interpreted passes before the compile count, then its first kTrialRuns compiled ones).
+  // A threshold of 0 compiles every tape and keeps it: no trial.
+  bool tracking() const { return last_ && threshold_ > 0 && !last_->failed && last_->code_runs < kTrialRuns; }
 
   // The compiled code for `tape`, compiling it if it has now been asked for enough points; null
   // where the interpreter runs it. Called for every evaluation (the renderers' leaves included),
