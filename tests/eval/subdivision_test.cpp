@@ -55,6 +55,21 @@ SampleGrid grid(int n) {
   return s;
 }
 
+// The values of `tape` at the grid's samples in box b (x fastest, then y, then z).
+std::vector<float> values_in(BatchEvaluator& eval, const Tape& tape, const SampleGrid& grid, const IndexBox& b) {
+  std::vector<float> xs, ys, zs;
+  for (int z = b.lo[2]; z < b.hi[2]; ++z)
+    for (int y = b.lo[1]; y < b.hi[1]; ++y)
+      for (int x = b.lo[0]; x < b.hi[0]; ++x) {
+        xs.push_back(grid.coords[0][static_cast<std::size_t>(x)]);
+        ys.push_back(grid.coords[1][static_cast<std::size_t>(y)]);
+        zs.push_back(grid.coords[2][static_cast<std::size_t>(z)]);
+      }
+  std::vector<float> out(xs.size());
+  eval.eval(tape, xs.data(), ys.data(), zs.data(), out.data(), xs.size());
+  return out;
+}
+
 struct Recorder {
   const Tape& whole;
   const SampleGrid& grid;
@@ -164,18 +179,8 @@ void check_lipschitz(int spheres_count, int n, std::vector<int> tiles) {
         std::string wrong;
         bool settled(int w, const IndexBox& b, Interval v) {
           if (!Recorder::settled(w, b, v)) return false;
-          std::vector<float> xs, ys, zs, out;
-          for (int z = b.lo[2]; z < b.hi[2]; ++z)
-            for (int y = b.lo[1]; y < b.hi[1]; ++y)
-              for (int x = b.lo[0]; x < b.hi[0]; ++x) {
-                xs.push_back(grid.coords[0][static_cast<std::size_t>(x)]);
-                ys.push_back(grid.coords[1][static_cast<std::size_t>(y)]);
-                zs.push_back(grid.coords[2][static_cast<std::size_t>(z)]);
-              }
-          out.resize(xs.size());
           std::lock_guard<std::mutex> l(m);
-          eval.eval(whole, xs.data(), ys.data(), zs.data(), out.data(), xs.size());
-          for (float f : out)
+          for (float f : values_in(eval, whole, grid, b))
             if (!(f >= v.lo && f <= v.hi) && wrong.empty())
               wrong = "box at " + std::to_string(b.lo[0]) + "," + std::to_string(b.lo[1]) + "," + std::to_string(b.lo[2]) +
                       " settled with [" + std::to_string(v.lo) + ", " + std::to_string(v.hi) + "] has a sample of " +
@@ -213,19 +218,7 @@ TEST(Subdivision, SignCapKeepsSignsAndShortensLeafTapes) {
     BatchEvaluator eval;
     std::size_t leaf_instructions = 0, samples = 0;
     std::string wrong;
-    std::vector<float> values(const Tape& tape, const IndexBox& b) {
-      std::vector<float> xs, ys, zs, out;
-      for (int z = b.lo[2]; z < b.hi[2]; ++z)
-        for (int y = b.lo[1]; y < b.hi[1]; ++y)
-          for (int x = b.lo[0]; x < b.hi[0]; ++x) {
-            xs.push_back(grid.coords[0][static_cast<std::size_t>(x)]);
-            ys.push_back(grid.coords[1][static_cast<std::size_t>(y)]);
-            zs.push_back(grid.coords[2][static_cast<std::size_t>(z)]);
-          }
-      out.resize(xs.size());
-      eval.eval(tape, xs.data(), ys.data(), zs.data(), out.data(), xs.size());
-      return out;
-    }
+    std::vector<float> values(const Tape& tape, const IndexBox& b) { return values_in(eval, tape, grid, b); }
     bool settled(int, const IndexBox& b, Interval v) {
       if (!(v.hi < 0) && !(v.lo >= 0)) return false;
       std::lock_guard<std::mutex> l(m);

@@ -96,40 +96,34 @@ TEST(Render, ThreeDModelsAtSeveralSlices) {
   }
 }
 
-TEST(Render, RandomTwoDimensionalExpressions) {
-  std::mt19937_64 rng(81);
-  for (int e = 0; e < 80; ++e) {
+// `count` random 2D expressions over `ops` (all ops if empty), each rendered against brute force;
+// with `csg_root`, the root is a min or max (alternately) of two of them.
+void expect_random_renders_match(std::uint64_t seed, int count, std::vector<Op> ops, bool csg_root, const std::string& what) {
+  std::mt19937_64 rng(seed);
+  for (int e = 0; e < count; ++e) {
     Graph g;
     test::GenOptions opt;
     opt.vars = 2;
     opt.max_depth = 4 + e % 4;
     opt.special_const_prob = 0.02;
     opt.const_range = 1.5f;
+    opt.ops = ops;
     test::ExprGen gen(g, rng, opt);
-    const Tape t = Tape::compile(g, gen.gen());
-    expect_renders_match(t, e % 2 ? 67 : 64, "random expression #" + std::to_string(e));
+    NodeId root = gen.gen();
+    if (csg_root) root = g.binary(e % 2 ? Op::Min : Op::Max, root, gen.gen());
+    expect_renders_match(Tape::compile(g, root), e % 2 ? 67 : 64, what + " #" + std::to_string(e));
     if (::testing::Test::HasFailure()) return;
   }
 }
 
+TEST(Render, RandomTwoDimensionalExpressions) { expect_random_renders_match(81, 80, {}, false, "random expression"); }
+
 // Unions and intersections at the root, as CSG models have: the renderer reads only signs, so it
 // simplifies with a root cap of 0 (terms only positive in a tile go), which must not change a pixel.
 TEST(Render, RandomUnionsAndIntersections) {
-  std::mt19937_64 rng(82);
-  for (int e = 0; e < 60; ++e) {
-    Graph g;
-    test::GenOptions opt;
-    opt.vars = 2;
-    opt.max_depth = 4 + e % 4;
-    opt.special_const_prob = 0.02;
-    opt.const_range = 1.5f;
-    opt.ops = {Op::Min, Op::Max, Op::Min, Op::Max, Op::Add, Op::Sub, Op::Mul, Op::Neg, Op::Abs, Op::Square, Op::Sqrt, Op::Sin};
-    test::ExprGen gen(g, rng, opt);
-    const NodeId a = gen.gen(), b = gen.gen();
-    const Tape t = Tape::compile(g, g.binary(e % 2 ? Op::Min : Op::Max, a, b));
-    expect_renders_match(t, e % 2 ? 67 : 64, "random union or intersection #" + std::to_string(e));
-    if (::testing::Test::HasFailure()) return;
-  }
+  expect_random_renders_match(
+      82, 60, {Op::Min, Op::Max, Op::Min, Op::Max, Op::Add, Op::Sub, Op::Mul, Op::Neg, Op::Abs, Op::Square, Op::Sqrt, Op::Sin},
+      true, "random union or intersection");
 }
 
 TEST(Render, RendererObjectIsReusableAcrossTapes) {
